@@ -1,0 +1,26 @@
+"""lugre_jax: differentiable LuGre friction, batched joint simulation and GA/PSO/GA-PSO identification.
+
+Implements and extends B. Li, Y. Zhang, L. Yuan, X. Xi, "Study on the Low Velocity Stability of a
+Prostate Seed Implantation Robot's Rotatory Joint", Electronics 2020, 9, 284.
+
+Units at every interface are the paper's: angles in deg, velocities in deg/s, torques in N*m.
+"""
+
+from . import _config  # noqa: F401  (enables float64 before anything is traced)
+from ._params import bounds_of as bounds_of, names_of as names_of, units_of as units_of
+from .friction import (
+    AbstractFrictionModel as AbstractFrictionModel,
+    CoulombViscous as CoulombViscous,
+    LuGre as LuGre,
+    Segmented as Segmented,
+    Stribeck as Stribeck,
+)
+from .plant import (
+    DCMotor as DCMotor,
+    Joint as Joint,
+    PAPER_J as PAPER_J,
+    paper_friction as paper_friction,
+    paper_segment as paper_segment,
+)
+
+__version__ = "0.1.0"

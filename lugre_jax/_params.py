@@ -1,0 +1,59 @@
+"""Parameters that carry their unit and bounds.
+
+Every physical parameter of a model is declared with :func:`param`, which stores the unit and the
+identification bounds as field metadata. Optimisers read the bounds with :func:`bounds_of`, so the
+bounds live beside the physics, once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+
+
+def param(unit: str, lower: float = -np.inf, upper: float = np.inf, **kwargs: Any):
+    """A model field with a unit and bounds (``lower <= value <= upper``)."""
+    if not lower <= upper:
+        raise ValueError(f"param bounds must satisfy lower <= upper, got [{lower}, {upper}]")
+    metadata = dict(unit=unit, bounds=(float(lower), float(upper)))
+    return eqx.field(converter=jnp.asarray, metadata=metadata, **kwargs)
+
+
+def param_fields(module: eqx.Module) -> list[dataclasses.Field]:
+    """The fields of ``module`` declared with :func:`param`, in declaration order."""
+    return [f for f in dataclasses.fields(module) if "bounds" in f.metadata]
+
+
+def names_of(module: eqx.Module) -> tuple[str, ...]:
+    return tuple(f.name for f in param_fields(module))
+
+
+def units_of(module: eqx.Module) -> dict[str, str]:
+    return {f.name: f.metadata["unit"] for f in param_fields(module)}
+
+
+def bounds_of(module: eqx.Module) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of the module's parameters, as two float64 arrays."""
+    fs = param_fields(module)
+    lo = np.array([f.metadata["bounds"][0] for f in fs], dtype=np.float64)
+    hi = np.array([f.metadata["bounds"][1] for f in fs], dtype=np.float64)
+    return lo, hi
+
+
+def to_vector(module: eqx.Module):
+    """The module's parameters stacked on the last axis (works for batched modules too)."""
+    return jnp.stack([jnp.asarray(getattr(module, n)) for n in names_of(module)], axis=-1)
+
+
+def from_vector(cls, x, **static: Any):
+    """Build ``cls`` from a vector (``..., n_params``) ordered as ``names_of(cls)``."""
+    names = [f.name for f in dataclasses.fields(cls) if "bounds" in f.metadata]
+    if x.shape[-1] != len(names):
+        raise ValueError(
+            f"{cls.__name__} has {len(names)} parameters {names}; got a vector of length {x.shape[-1]}"
+        )
+    return cls(**{n: x[..., i] for i, n in enumerate(names)}, **static)

@@ -1,0 +1,1 @@
+"""Diagnose model-reality mismatch: locate residual structure, name missing physics, refit."""
