@@ -1,0 +1,556 @@
+"""Whole and piecewise static (Stribeck) identification, Li et al., Electronics 2020, 9, 284, section
+4.2.2 and 4.2.4 (Table 1).
+
+* **Whole**: one Stribeck parameter set (Fc, Fs, vs, sigma2) over the full velocity range, as "most
+  researchers" do (the paper's refs. 36-40).
+* **Piecewise** (the paper's method): the accelerating-branch data are split at the velocity of
+  minimum torque ``v_min`` and at the critical Stribeck velocity ``v_crit``, both *detected from the
+  data*: ``v_min`` as the minimum of a cubic smoothing spline of the averaged torques, ``v_crit`` as
+  the break point of a continuous two-line (hinge) fit above ``v_min``, i.e. where the curve turns
+  from the rising Stribeck/viscous part to the stable high-velocity part. Segments 1 (below
+  ``v_min``) and 2 (``v_min``..``v_crit``) are Stribeck curves, eq. (10); segment 3 (above
+  ``v_crit``) is eq. (11), ``Fc + sigma2*v`` (the paper prints '/' for its Fs and vs). If the data
+  hold a decelerating branch, it is identified as its own segment "1 decel". Continuity at each
+  boundary is imposed softly: the fit of a segment sees one pseudo-observation equal to the
+  previous segment's torque at the shared boundary (weight ``continuity_weight**2`` times that of a
+  typical data point), and the remaining jump is reported.
+
+The smoothing spline and the eq. (12) sum-of-sines curves of each segment (Fig. 4) are computed and
+reported; ``target="sines"`` fits the Stribeck curves to eq. (12) evaluated at the set-points (the
+paper's route) instead of to the averaged data (default, the statistically sound route). Standard
+errors always come from the data residuals.
+
+The loss handed to the optimisers is a pure ``jnp`` function of the parameter vector:
+``0.5 * sum(((F(v_i; x) - tau_i) / se_i)**2)`` (the paper's ``J = 1/2 sum e^2`` with weights).
+
+Units: velocity deg/s, torque N*m, vs deg/s, sigma2 N*m*s/deg.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from typing import Callable, Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._params import bounds_of
+from .._types import PRNGKeyArray
+from ..friction import CoulombViscous, Segmented, Stribeck
+from ..io._stribeck_data import StribeckData
+from ._smoothing import SmoothingSpline, SumOfSines, TangentBranch, fit_smoothing_spline, fit_sum_of_sines, fit_tangent_branch
+from ._uncertainty import Uncertainty, standard_errors
+
+Kind = Literal["stribeck", "coulomb_viscous"]
+NAMES: dict[str, tuple[str, ...]] = {"stribeck": ("Fc", "Fs", "vs", "sigma2"), "coulomb_viscous": ("Fc", "sigma2")}
+UNITS = {"Fc": "N*m", "Fs": "N*m", "vs": "deg/s", "sigma2": "N*m*s/deg"}
+METHODS = ("ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm")
+
+
+# ----------------------------------------------------------------------------------------------
+# models and objectives
+# ----------------------------------------------------------------------------------------------
+
+
+def curve(kind: Kind, x, v):
+    """Steady-state torque [N*m] of a ``kind`` model with parameter vector ``x`` at ``v`` [deg/s]."""
+    if kind == "stribeck":
+        return Stribeck(Fc=x[0], Fs=x[1], vs=x[2], sigma2=x[3]).steady_state(v)
+    return CoulombViscous(Fc=x[0], sigma2=x[1]).steady_state(v)
+
+
+def model_of(kind: Kind, x):
+    x = np.asarray(x, dtype=np.float64)
+    if kind == "stribeck":
+        return Stribeck(Fc=x[0], Fs=x[1], vs=x[2], sigma2=x[3])
+    return CoulombViscous(Fc=x[0], sigma2=x[1])
+
+
+def default_bounds(kind: Kind) -> tuple[np.ndarray, np.ndarray]:
+    """The paper's identification ranges (section 4.2.2): Fc, Fs, sigma2 in [0, 10], vs in [0, 1]."""
+    return bounds_of(Stribeck(0.0, 0.0, 0.0, 0.0) if kind == "stribeck" else CoulombViscous(0.0, 0.0))
+
+
+def auto_bounds(kind: Kind, data: StribeckData) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds scaled to the data (for drives far from the paper's N*m and deg/s scale): torques in
+    [0, 2*max|tau|], vs in [0, max|v|], sigma2 in [0, 2*max|tau|/max|v|]."""
+    tmax = float(np.max(np.abs(data.torque)))
+    vmax = float(np.max(np.abs(data.velocity)))
+    full = {"Fc": (0.0, 2 * tmax), "Fs": (0.0, 2 * tmax), "vs": (0.0, vmax), "sigma2": (0.0, 2 * tmax / vmax)}
+    names = NAMES[kind]
+    return np.array([full[n][0] for n in names]), np.array([full[n][1] for n in names])
+
+
+def parse_bounds(spec: str | None, kind: Kind, data: StribeckData) -> tuple[np.ndarray, np.ndarray]:
+    """``None``/``"paper"`` -> paper bounds; ``"auto"`` -> :func:`auto_bounds`; otherwise start from
+    the paper's and override with ``"Fc=0:5,vs=0:0.5"``."""
+    if spec in (None, "", "paper"):
+        return default_bounds(kind)
+    if spec == "auto":
+        return auto_bounds(kind, data)
+    lo, hi = (b.copy() for b in default_bounds(kind))
+    names = NAMES[kind]
+    for item in spec.split(","):
+        name, _, rng = item.partition("=")
+        name = name.strip()
+        try:
+            a, b = (float(s) for s in rng.split(":"))
+        except ValueError:
+            raise ValueError(f"bad bounds item {item!r}: expected NAME=LO:HI, e.g. 'Fc=0:5,vs=0:0.5'") from None
+        if name not in UNITS:
+            raise ValueError(f"bad bounds item {item!r}: unknown parameter {name!r}, expected one of {list(UNITS)}")
+        if not a < b:
+            raise ValueError(f"bad bounds item {item!r}: need LO < HI")
+        if name in names:
+            i = names.index(name)
+            lo[i], hi[i] = a, b
+    return lo, hi
+
+
+def check_bounds_fit(kind: Kind, v, tau, se, lo, hi, *, what: str = "data") -> None:
+    """Raise a ValueError when no parameter inside ``[lo, hi]`` can reach the torques ``tau``
+    (beyond 5 standard errors), e.g. torques above 10 N*m with Fc, Fs in [0, 10] at low velocity."""
+    v, tau = np.abs(np.asarray(v)), np.asarray(tau)
+    se = np.where(np.isfinite(se), se, 0.0) if se is not None else np.zeros_like(tau)
+    names = NAMES[kind]
+    b = {n: (lo[i], hi[i]) for i, n in enumerate(names)}
+    g_hi = max(b["Fc"][1], b.get("Fs", b["Fc"])[1])
+    g_lo = min(b["Fc"][0], b.get("Fs", b["Fc"])[0])
+    top = g_hi + b["sigma2"][1] * v
+    bottom = g_lo + b["sigma2"][0] * v
+    over = tau - 5 * se > top
+    under = tau + 5 * se < bottom
+    if over.any() or under.any():
+        i = int(np.argmax(np.where(over, tau - top, bottom - tau)))
+        side = "above the largest" if over[i] else "below the smallest"
+        raise ValueError(
+            f"the bounds {dict(zip(names, zip(lo.tolist(), hi.tolist())))} cannot fit the {what}: "
+            f"{int(over.sum() + under.sum())} averaged torque(s) lie {side} torque the model can produce, "
+            f"worst {tau[i]:.4g} N*m at {v[i]:.4g} deg/s (reachable {bottom[i]:.4g}..{top[i]:.4g} N*m). "
+            "Check units (N*m, deg/s) and sign convention, or widen the bounds (--bounds auto or NAME=LO:HI)."
+        )
+
+
+def make_objective(kind: Kind, v, tau, se, anchor: tuple[float, float, float] | None = None):
+    """``(loss_fn, residual_fn)``: jnp functions of the parameter vector (see module docstring).
+    ``anchor = (v_b, tau_b, sd_b)`` adds the continuity pseudo-observation ``F(v_b) = tau_b``."""
+    v = jnp.asarray(v, dtype=jnp.float64)
+    tau = jnp.asarray(tau, dtype=jnp.float64)
+    se = jnp.asarray(se, dtype=jnp.float64)
+
+    def residual_fn(x):
+        r = (curve(kind, x, v) - tau) / se
+        if anchor is not None:
+            vb, tb, sb = anchor
+            r = jnp.concatenate([r, jnp.atleast_1d((curve(kind, x, jnp.asarray(vb)) - tb) / sb)])
+        return r
+
+    def loss_fn(x):
+        val = 0.5 * jnp.sum(residual_fn(x) ** 2)
+        return jnp.where(jnp.isfinite(val), val, jnp.inf)  # a failed evaluation is +inf, never NaN
+
+    return loss_fn, residual_fn
+
+
+# ----------------------------------------------------------------------------------------------
+# optimiser bridge
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class _Fit:
+    x: np.ndarray
+    loss: float
+    seed_losses: np.ndarray
+    evaluations: int
+    wall_time: float
+
+
+def _first(obj, *names):
+    for n in names:
+        if hasattr(obj, n):
+            return getattr(obj, n)
+    raise AttributeError(f"optimiser result has none of {names}")
+
+
+def _scipy_multistart(loss_fn, residual_fn, lo, hi, key, n_seeds, max_nfev=2000) -> _Fit:
+    """Bounded Levenberg-Marquardt-type least squares (scipy TRF) from ``n_seeds`` uniform random starts;
+    used when the package optimisers are not available."""
+    from scipy.optimize import least_squares
+
+    r = jax.jit(residual_fn)
+    jac = jax.jit(jax.jacfwd(residual_fn))
+    starts = np.asarray(jax.random.uniform(key, (n_seeds, lo.size), minval=lo, maxval=hi))
+    xs, ls, nev = [], [], 0
+    t0 = time.perf_counter()
+    for x0 in starts:
+        res = least_squares(lambda x: np.asarray(r(x)), x0, jac=lambda x: np.asarray(jac(x)), bounds=(lo, hi),
+                            method="trf", x_scale="jac", max_nfev=max_nfev)
+        xs.append(res.x)
+        ls.append(float(loss_fn(jnp.asarray(res.x))))
+        nev += int(res.nfev)
+    i = int(np.nanargmin(ls))
+    return _Fit(np.asarray(xs[i]), float(ls[i]), np.asarray(ls), nev, time.perf_counter() - t0)
+
+
+def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: int = 1, refine: bool = False, **settings) -> _Fit:
+    """Minimise ``loss_fn`` in the box ``[lo, hi]`` with one of :data:`METHODS` through the package's
+    ``optimise`` entry point; returns the best parameters over seeds and the cost."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
+    try:
+        from . import optimise  # the optimiser entry point (lugre_jax.identify.optimise)
+    except ImportError:
+        optimise = None
+    if optimise is None:
+        if method == "lm":
+            return _scipy_multistart(loss_fn, residual_fn, lo, hi, key, max(n_seeds, 1))
+        raise ValueError(f"method {method!r} needs lugre_jax.identify.optimise, which is not available in this build; use --method lm")
+    t0 = time.perf_counter()
+    res = optimise(method, loss_fn, jnp.asarray(lo), jnp.asarray(hi), key=key, n_seeds=n_seeds,
+                   residual_fn=residual_fn, refine=refine, **settings)
+    wall = time.perf_counter() - t0
+    xs = np.atleast_2d(np.asarray(_first(res, "best_x", "x")))
+    ls = np.atleast_1d(np.asarray(_first(res, "best_loss", "loss", "best_f")))
+    # Losses are re-evaluated here so every method is judged by the same function.
+    ls = np.array([float(loss_fn(jnp.asarray(x))) for x in xs])
+    i = int(np.nanargmin(np.where(np.isfinite(ls), ls, np.nan))) if np.isfinite(ls).any() else 0
+    try:
+        ev = int(np.sum(np.asarray(_first(res, "evaluations", "n_evaluations", "nfev"))))
+    except AttributeError:
+        ev = -1
+    try:
+        wall = float(np.max(np.asarray(_first(res, "wall_time", "wall_time_s"))))
+    except AttributeError:
+        pass
+    return _Fit(xs[i], float(ls[i]), ls, ev, wall)
+
+
+# ----------------------------------------------------------------------------------------------
+# boundaries
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Boundaries:
+    """Detected segment boundaries [deg/s] and the smoothing spline they came from."""
+
+    v_min: float  # velocity of minimum torque
+    tau_min: float  # N*m, spline value there
+    v_crit: float  # critical Stribeck velocity
+    spline: SmoothingSpline
+    detected: bool = True
+
+
+def _hinge_break(v, tau, w, v_from: float, n_grid: int = 600, min_side: int = 3) -> float:
+    """Break point of the best continuous two-line fit of ``tau(v)`` for ``v > v_from``."""
+    m = v > v_from
+    v, tau, w = v[m], tau[m], w[m]
+    if v.size < 2 * min_side + 1:
+        raise ValueError(
+            f"too few set-points above the minimum-torque velocity ({v.size}) to locate the critical Stribeck "
+            "velocity; pass the boundaries explicitly (--edges VMIN,VCRIT) or use --scheme whole"
+        )
+    sw = np.sqrt(w)
+
+    def sse(b):
+        A = np.stack([np.ones_like(v), v, np.maximum(v - b, 0.0)], axis=1)
+        coef, *_ = np.linalg.lstsq(A * sw[:, None], tau * sw, rcond=None)
+        return float(np.sum(w * (A @ coef - tau) ** 2))
+
+    grid = np.linspace(v[min_side - 1], v[-min_side], n_grid)
+    errs = np.array([sse(b) for b in grid])
+    return float(grid[int(np.argmin(errs))])
+
+
+def detect_boundaries(data: StribeckData, *, n_grid: int = 20001) -> Boundaries:
+    """Locate ``v_min`` (minimum of the smoothing spline of the accelerating branch) and ``v_crit``
+    (hinge break point above ``v_min``) in deg/s. Uses positive velocities only."""
+    main = data.select((data.branch == "accel") & (data.velocity > 0)).sorted()
+    if len(main) < 5:
+        raise ValueError(f"{data.source}: need at least 5 accelerating-branch set-points at positive velocity, got {len(main)}")
+    spl = fit_smoothing_spline(main.velocity, main.torque, main.torque_se if main.has_weights else None)
+    g = np.linspace(main.velocity[0], main.velocity[-1], n_grid)
+    s = spl(g)
+    i = int(np.argmin(s))
+    v_min = float(g[i])
+    w = 1.0 / main.torque_se**2 if main.has_weights else np.ones(len(main))
+    v_crit = _hinge_break(main.velocity, main.torque, w, v_min)
+    return Boundaries(v_min, float(s[i]), v_crit, spl)
+
+
+# ----------------------------------------------------------------------------------------------
+# results
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class SegmentFit:
+    """One identified segment (one row of a Table 1-style table)."""
+
+    name: str
+    kind: Kind
+    branch: str
+    v_range: tuple[float, float]  # deg/s, the segment's validity range
+    x: np.ndarray
+    loss: float
+    rms: float  # N*m, RMS of (model - averaged data) over the segment's set-points
+    n_points: int
+    evaluations: int
+    wall_time: float
+    seed_losses: np.ndarray
+    uncertainty: Uncertainty
+    velocity: np.ndarray  # the set-points used [deg/s]
+    residual: np.ndarray  # model - data [N*m] at those set-points
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return NAMES[self.kind]
+
+    @property
+    def params(self) -> dict[str, float]:
+        return dict(zip(self.names, self.x.tolist()))
+
+    @property
+    def se(self) -> dict[str, float]:
+        return dict(zip(self.names, self.uncertainty.se.tolist()))
+
+    def model(self):
+        return model_of(self.kind, self.x)
+
+    def as_dict(self) -> dict:
+        return dict(
+            segment=self.name,
+            branch=self.branch,
+            model="Stribeck eq. (10)" if self.kind == "stribeck" else "Coulomb + viscous eq. (11)",
+            velocity_range_deg_s=list(self.v_range),
+            parameters=self.params,
+            units={n: UNITS[n] for n in self.names},
+            loss=self.loss,
+            rms_nm=self.rms,
+            n_points=self.n_points,
+            evaluations=self.evaluations,
+            wall_time_s=self.wall_time,
+            seed_losses=self.seed_losses.tolist(),
+            **self.uncertainty.as_dict(),
+        )
+
+
+@dataclasses.dataclass(frozen=True)
+class Identification:
+    """Result of :func:`identify_whole` or :func:`identify_piecewise`."""
+
+    scheme: str
+    method: str
+    target: str
+    segments: tuple[SegmentFit, ...]
+    boundaries: Boundaries | None
+    sines: dict  # segment name -> SumOfSines (piecewise only)
+    decel_curve: TangentBranch | None
+    data: StribeckData
+    jumps: dict  # boundary name -> torque jump [N*m] between neighbouring identified segments
+
+    def main_segments(self) -> tuple[SegmentFit, ...]:
+        return tuple(s for s in self.segments if s.branch == "accel")
+
+    def friction_model(self):
+        """The identified accelerating-branch model: a ``Stribeck`` (whole) or ``Segmented``."""
+        segs = self.main_segments()
+        if len(segs) == 1:
+            return segs[0].model()
+        return Segmented(tuple(s.model() for s in segs), jnp.asarray([s.v_range[1] for s in segs[:-1]]))
+
+    def predict(self, v, branch: str = "accel"):
+        """Identified steady-state torque [N*m] at ``v`` [deg/s]."""
+        v = np.asarray(v, dtype=np.float64)
+        out = np.asarray(self.friction_model().steady_state(jnp.asarray(v)))
+        if branch == "decel":
+            for s in self.segments:
+                if s.branch == "decel":
+                    m = np.abs(v) < s.v_range[1]
+                    out = np.where(m, np.asarray(s.model().steady_state(jnp.asarray(v))), out)
+        return out
+
+    def rms(self) -> float:
+        """RMS error [N*m] over all set-points used (all segments)."""
+        r = np.concatenate([s.residual for s in self.segments])
+        return float(np.sqrt(np.mean(r**2)))
+
+    def as_dict(self) -> dict:
+        out = dict(
+            scheme=self.scheme,
+            method=self.method,
+            target=self.target,
+            units=dict(velocity="deg/s", torque="N*m", **UNITS),
+            data=dict(source=self.data.source, n_set_points=len(self.data), notes=list(self.data.notes)),
+            rms_nm=self.rms(),
+            segments=[s.as_dict() for s in self.segments],
+        )
+        if self.boundaries is not None:
+            b = self.boundaries
+            out["boundaries"] = dict(v_min_deg_s=b.v_min, tau_min_nm=b.tau_min, v_crit_deg_s=b.v_crit, detected=b.detected)
+            out["continuity_jumps_nm"] = self.jumps
+        if self.sines:
+            out["sum_of_sines_eq12"] = {k: s.as_dict() for k, s in self.sines.items()}
+        return out
+
+    def table(self) -> str:
+        """Table 1-style text table, one row per segment, value +- standard error."""
+        cols = ["Fc", "Fs", "vs", "sigma2"]
+        head = f"{'segment':<9} {'v range [deg/s]':<17}" + "".join(f"{c + ' [' + UNITS[c] + ']':>26}" for c in cols)
+        head += f"{'loss':>11} {'RMS [N*m]':>10} {'evals':>8} {'time [s]':>9}"
+        lines = [head, "-" * len(head)]
+        for s in self.segments:
+            cells = []
+            for c in cols:
+                if c in s.names:
+                    i = s.names.index(c)
+                    cells.append(f"{s.x[i]:.4f} +- {s.uncertainty.se[i]:.2g}")
+                else:
+                    cells.append("/")
+            lines.append(
+                f"{s.name:<9} {f'{s.v_range[0]:.3g}-{s.v_range[1]:.3g}':<17}" + "".join(f"{c:>26}" for c in cells)
+                + f"{s.loss:>11.4g} {s.rms:>10.3g} {s.evaluations:>8d} {s.wall_time:>9.2f}"
+            )
+        return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------------------------
+# schemes
+# ----------------------------------------------------------------------------------------------
+
+
+def _weights(d: StribeckData) -> np.ndarray:
+    """Standard errors to weight by; unit weights (and residual-based SE scaling) without repeats."""
+    return d.torque_se if d.has_weights else np.ones(len(d))
+
+
+def _fit_segment(
+    name: str, kind: Kind, branch: str, d: StribeckData, v_range, method: str, *, key, n_seeds: int,
+    refine: bool, bounds: str | None, target_fn: Callable | None = None, anchor=None, settings: dict,
+    data_for_bounds: StribeckData,
+) -> SegmentFit:
+    names = NAMES[kind]
+    if len(d) < len(names):
+        raise ValueError(
+            f"segment {name} ({v_range[0]:.4g}-{v_range[1]:.4g} deg/s) has {len(d)} set-point(s) for {len(names)} "
+            "parameters; give more data there, move the boundaries (--edges) or use --scheme whole"
+        )
+    se = _weights(d)
+    lo, hi = parse_bounds(bounds, kind, data_for_bounds)
+    check_bounds_fit(kind, d.velocity, d.torque, d.torque_se, lo, hi, what=f"data of segment {name}")
+    target = d.torque if target_fn is None else np.asarray(target_fn(d.velocity))
+    loss_fn, residual_fn = make_objective(kind, d.velocity, target, se, anchor)
+    fit = run_optimiser(method, loss_fn, residual_fn, lo, hi, key=key, n_seeds=n_seeds, refine=refine, **settings)
+    # Statistics always against the data, with the same continuity anchor.
+    _, data_residual = make_objective(kind, d.velocity, d.torque, se, anchor)
+    unc = standard_errors(data_residual, fit.x, names, absolute_sigma=False, bounds=(lo, hi))
+    resid = np.asarray(curve(kind, jnp.asarray(fit.x), jnp.asarray(d.velocity))) - d.torque
+    return SegmentFit(
+        name=name, kind=kind, branch=branch, v_range=(float(v_range[0]), float(v_range[1])), x=np.asarray(fit.x),
+        loss=fit.loss, rms=float(np.sqrt(np.mean(resid**2))), n_points=len(d), evaluations=fit.evaluations,
+        wall_time=fit.wall_time, seed_losses=fit.seed_losses, uncertainty=unc, velocity=d.velocity, residual=resid,
+    )
+
+
+def _main_branch(data: StribeckData) -> StribeckData:
+    d = data.select((data.branch == "accel") & (data.velocity > 0)).sorted()
+    if len(d) < 2:
+        raise ValueError(
+            f"{data.source}: no accelerating-branch data at positive velocity; for a negative-direction sweep "
+            "select it first (StribeckData.direction(-1), or --direction negative)"
+        )
+    return d
+
+
+def identify_whole(
+    data: StribeckData, method: str = "gapso", *, key: PRNGKeyArray, n_seeds: int = 1, refine: bool = False,
+    bounds: str | None = None, kind: Kind = "stribeck", **settings,
+) -> Identification:
+    """One parameter set of ``kind`` (Stribeck eq. 10, or "coulomb_viscous" eq. 11) over the whole
+    accelerating branch at positive velocity. Units deg/s, N*m."""
+    d = _main_branch(data)
+    seg = _fit_segment("whole", kind, "accel", d, (0.0, float(d.velocity[-1])), method, key=key, n_seeds=n_seeds,
+                       refine=refine, bounds=bounds, settings=settings, data_for_bounds=d)
+    return Identification("whole", method, "data", (seg,), None, {}, None, data, {})
+
+
+def identify_piecewise(
+    data: StribeckData, method: str = "gapso", *, key: PRNGKeyArray, n_seeds: int = 1, refine: bool = False,
+    bounds: str | None = None, edges: tuple[float, float] | None = None, target: str = "data",
+    continuity_weight: float = 3.0, **settings,
+) -> Identification:
+    """The paper's segmented identification (see module docstring). ``edges=(v_min, v_crit)`` [deg/s]
+    overrides detection (e.g. the paper's stated (0.05, 1.2)). ``target`` is "data" or "sines"."""
+    if target not in ("data", "sines"):
+        raise ValueError(f"target must be 'data' or 'sines', got {target!r}")
+    d = _main_branch(data)
+    det = detect_boundaries(data)
+    if edges is not None:
+        v_min, v_crit = (float(e) for e in edges)
+        if not 0 < v_min < v_crit:
+            raise ValueError(f"edges must satisfy 0 < v_min < v_crit, got {edges}")
+        bnd = Boundaries(v_min, float(det.spline(v_min)), v_crit, det.spline, detected=False)
+    else:
+        bnd = det
+    spl = bnd.spline
+    keys = jax.random.split(key, 4)
+    segs_data = {
+        "1": d.select(d.velocity < bnd.v_min),
+        "2": d.select((d.velocity >= bnd.v_min) & (d.velocity < bnd.v_crit)),
+        "3": d.select(d.velocity >= bnd.v_crit),
+    }
+    ranges = {"1": (0.0, bnd.v_min), "2": (bnd.v_min, bnd.v_crit), "3": (bnd.v_crit, float(d.velocity[-1]))}
+    sines = {}
+    for k, sd in segs_data.items():
+        lo_v = max(ranges[k][0], float(d.velocity[0]))
+        sines[k] = fit_sum_of_sines(spl, lo_v, ranges[k][1])
+    decel = data.select((data.branch == "decel") & (data.velocity > 0)).sorted()
+    decel_curve = None
+    if len(decel):
+        dd = decel.select(decel.velocity < bnd.v_min)
+        if len(dd):
+            decel_curve = fit_tangent_branch(spl, dd.velocity, dd.torque, bnd.v_min, dd.torque_se if dd.has_weights else None)
+            sines["1 decel"] = fit_sum_of_sines(decel_curve, float(dd.velocity[0]), bnd.v_min)
+    med_se = float(np.median(_weights(d)))
+    sd_anchor = med_se / continuity_weight
+
+    def tf(name):
+        return None if target == "data" else sines[name]
+
+    common = dict(method=method, n_seeds=n_seeds, refine=refine, bounds=bounds, settings=settings, data_for_bounds=d)
+    s1 = _fit_segment("1", "stribeck", "accel", segs_data["1"], ranges["1"], key=keys[0], target_fn=tf("1"), **common)
+    tau_vmin = float(curve("stribeck", jnp.asarray(s1.x), jnp.asarray(bnd.v_min)))
+    s2 = _fit_segment("2", "stribeck", "accel", segs_data["2"], ranges["2"], key=keys[1], target_fn=tf("2"),
+                      anchor=(bnd.v_min, tau_vmin, sd_anchor), **common)
+    tau_vcrit = float(curve("stribeck", jnp.asarray(s2.x), jnp.asarray(bnd.v_crit)))
+    s3 = _fit_segment("3", "coulomb_viscous", "accel", segs_data["3"], ranges["3"], key=keys[2], target_fn=tf("3"),
+                      anchor=(bnd.v_crit, tau_vcrit, sd_anchor), **common)
+    segments = [s1]
+    jumps = {
+        "v_min": float(curve("stribeck", jnp.asarray(s2.x), jnp.asarray(bnd.v_min))) - tau_vmin,
+        "v_crit": float(curve("coulomb_viscous", jnp.asarray(s3.x), jnp.asarray(bnd.v_crit))) - tau_vcrit,
+    }
+    if decel_curve is not None:
+        dd = decel.select(decel.velocity < bnd.v_min)
+        sdec = _fit_segment("1 decel", "stribeck", "decel", dd, (0.0, bnd.v_min), key=keys[3],
+                            target_fn=None if target == "data" else sines["1 decel"],
+                            anchor=(bnd.v_min, tau_vmin, sd_anchor), **common)
+        segments.append(sdec)
+        jumps["v_min_decel"] = float(curve("stribeck", jnp.asarray(sdec.x), jnp.asarray(bnd.v_min))) - tau_vmin
+    segments += [s2, s3]
+    return Identification("piecewise", method, target, tuple(segments), bnd, sines, decel_curve, data, jumps)
+
+
+def identify(data: StribeckData, scheme: str = "piecewise", method: str = "gapso", **kw) -> Identification:
+    """Dispatch to :func:`identify_whole` or :func:`identify_piecewise`."""
+    if scheme == "whole":
+        kw.pop("edges", None)
+        kw.pop("target", None)
+        return identify_whole(data, method, **kw)
+    if scheme == "piecewise":
+        return identify_piecewise(data, method, **kw)
+    raise ValueError(f"unknown scheme {scheme!r}; choose 'whole' or 'piecewise'")
