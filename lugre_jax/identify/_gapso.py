@@ -1,0 +1,122 @@
+"""GA-PSO hybrid of Li et al., Electronics 2020, 9, 284, section 4.2.1 (flow) and 4.2.3 (settings).
+
+Built by composition: a :class:`GAPSO` holds a :class:`~._ga.GA` and a :class:`~._pso.PSO` and calls
+their operators; it adds only the hand-over between them. The paper's flow, step by step, and what
+each step is here (the paper is terse; the reading is ours where marked):
+
+1. "Initialise the swarm (range, x_i, v_i)": ``pso.init`` (evaluates the swarm).
+2. "Set GA population size, Pc, Pm, iterations": the fields of ``ga`` (paper: 20, 0.9, 0.005, 20).
+3. "GA encodes the initial value of the particle swarm": the ``ga.pop_size`` particles with the best
+   current loss are encoded in binary (``ga.init_from``; the quantised points are re-evaluated).
+   *Ours*: which particles (the best ones) -- the GA population is smaller than the swarm.
+4. "Selection, crossover, mutation": ``ga.step``.
+5. "Decode, calculate fitness values, adjust": part of ``ga.step`` (decode + evaluate).
+6. "If the GA's iteration count is met, output; else return to 3": ``ga_generations`` GA steps
+   (default: the GA's own ``generations``, 20, the literal reading; a cheaper variant uses 1).
+7. "PSO compares with the individual extrema by the fitness of (5)": the GA's final population is
+   handed back to the particles it came from, and ``pso.absorb`` updates their personal bests.
+   *Ours*: an offspring replaces its particle's position (velocity kept) only where it has a lower
+   loss than the particle's current position; an unconditional write-back snaps the best particles
+   onto the 10-bit grid every iteration and caps the accuracy at the grid resolution.
+8. "... and with the global extremum": ``pso.absorb`` also updates the global best.
+9. "Termination?": the fixed iteration count of ``pso`` (``lax.scan``).
+10. "Update velocity and position": ``pso.move`` (evaluates the whole swarm, updates bests).
+11. "Return to (3)": next iteration.
+
+Evaluations per iteration: ``pop_size + ga_generations * (pop_size - n_elite)`` for the GA part plus ``pso.n_particles`` for the move:
+with the paper's settings 20 + 20*19 + 100 = 500 per iteration, five times the PSO's 100. Compare
+the two per evaluation, not per iteration.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from .._types import Array, Int, PRNGKeyArray, Scalar, Float
+from ._fitness import LossFn, RunResult, scan_run
+from ._ga import GA
+from ._pso import PSO, PSOState
+
+
+class GAPSOState(eqx.Module):
+    """The swarm's state (the GA's population lives only inside one iteration)."""
+
+    swarm: PSOState
+    best_x: Float[Array, " dim"]
+    best_loss: Scalar
+    n_evals: Int[Array, ""]
+
+
+def _mirror(swarm: PSOState) -> GAPSOState:
+    return GAPSOState(swarm, swarm.best_x, swarm.best_loss, swarm.n_evals)
+
+
+class GAPSO(eqx.Module):
+    """GA-PSO by composition: ``ga`` (paper's binary GA) and ``pso`` (paper's PSO).
+
+    ``ga_generations`` GA steps per PSO iteration; ``None`` means ``ga.generations`` (the literal
+    reading of step 6). ``n_iterations`` is the PSO's.
+    """
+
+    ga: GA = eqx.field(default_factory=GA)
+    pso: PSO = eqx.field(default_factory=PSO)
+    ga_generations: int | None = eqx.field(static=True, default=None)
+
+    def __check_init__(self):
+        if self.ga.pop_size > self.pso.n_particles:
+            raise ValueError(
+                f"GA-PSO encodes ga.pop_size={self.ga.pop_size} particles, but the swarm has only "
+                f"pso.n_particles={self.pso.n_particles}; make the GA population smaller"
+            )
+
+    @property
+    def n_ga_steps(self) -> int:
+        return self.ga.generations if self.ga_generations is None else self.ga_generations
+
+    @property
+    def n_iterations(self) -> int:
+        return self.pso.n_iterations
+
+    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> GAPSOState:
+        """Step 1: the swarm (``pso.n_particles`` evaluations)."""
+        return _mirror(self.pso.init(key, loss_fn, lower, upper))
+
+    def step(self, state: GAPSOState, loss_fn: LossFn, lower, upper) -> GAPSOState:
+        """Steps 3-8 and 10 of the flow above (one GA-PSO iteration)."""
+        swarm = state.swarm
+        key, kga = jax.random.split(swarm.key)
+        # Step 3: the best particles become the GA's population.
+        chosen = jnp.argsort(swarm.fx)[: self.ga.pop_size]
+        ga_state = self.ga.init_from(kga, swarm.x[chosen], loss_fn, lower, upper)
+
+        # Steps 4-6: the GA's own loop.
+        def ga_body(s, _):
+            return self.ga.step(s, loss_fn, lower, upper), None
+
+        ga_state, _ = jax.lax.scan(ga_body, ga_state, None, length=self.n_ga_steps)
+        # Steps 7-8: offspring back into the swarm, personal and global bests updated.
+        x_ga = self.ga.population(ga_state, lower, upper)
+        swarm = eqx.tree_at(lambda s: (s.key, s.n_evals), swarm, (key, swarm.n_evals + ga_state.n_evals))
+        # Ours: an offspring replaces its particle's position only if it is better there. Writing
+        # back unconditionally would snap the best particles to the 10-bit grid every iteration
+        # and cap the accuracy at the grid's resolution.
+        improves = ga_state.losses < swarm.fx[chosen]
+        x_back = jnp.where(improves[:, None], x_ga, swarm.x[chosen])
+        f_back = jnp.where(improves, ga_state.losses, swarm.fx[chosen])
+        swarm = self.pso.absorb(swarm, chosen, x_back, f_back)
+        # Elitism keeps the GA's best in its final population, but be explicit: it may have been
+        # found in an earlier generation and the global best must never miss it.
+        better = ga_state.best_loss < swarm.best_loss
+        swarm = eqx.tree_at(
+            lambda s: (s.best_x, s.best_loss),
+            swarm,
+            (jnp.where(better, ga_state.best_x, swarm.best_x), jnp.where(better, ga_state.best_loss, swarm.best_loss)),
+        )
+        # Step 10: velocity and position update.
+        return _mirror(self.pso.move(swarm, loss_fn, lower, upper))
+
+    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
+        """Init plus ``pso.n_iterations`` GA-PSO iterations under ``lax.scan``."""
+        return scan_run(self, key, loss_fn, lower, upper, self.n_iterations)

@@ -1,0 +1,126 @@
+"""Global-best particle swarm optimisation, as in Li et al., Electronics 2020, 9, 284, section 4.2.3.
+
+Update (paper step 3, Kennedy & Eberhart with inertia weight)::
+
+    v <- w*v + c1*r1*(p_i - x) + c2*r2*(p_g - x)
+    x <- x + v
+
+Paper defaults: 100 particles, w = 0.62, c1 = c2 = 2, 100 iterations, bounds of section 4.2.2.
+
+Bound handling (the paper does not say; this is ours):
+
+* velocity clamp ``|v_j| <= vmax_frac * (upper_j - lower_j)`` (default 0.2). ``w = 0.62`` with
+  ``c1 = c2 = 2`` lies outside the usual stability region (Clerc's ``w = 0.7298, c = 1.49618``), so
+  without a clamp the swarm diverges;
+* position clipped to the box, and the velocity component that pushed it out set to zero (the
+  particle stops at the wall instead of pressing on it every iteration).
+
+The swarm is initialised uniformly in the box with velocities uniform in ``[-vmax, vmax]``.
+``run`` counts the initial swarm as iteration 0, then does ``n_iterations`` updates, so the
+evaluation count is ``n_particles * (n_iterations + 1)``.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from .._types import Array, Float, Int, Population, PRNGKeyArray, Scalar
+from ._fitness import LossFn, RunResult, best_of, evaluate, scan_run
+
+
+class PSOState(eqx.Module):
+    """Swarm state; a pytree, so many seeds are a vmap over keys."""
+
+    x: Population
+    v: Population
+    fx: Float[Array, " pop"]
+    pbest: Population
+    pbest_f: Float[Array, " pop"]
+    best_x: Float[Array, " dim"]
+    best_loss: Scalar
+    n_evals: Int[Array, ""]
+    key: PRNGKeyArray
+
+
+def _move_one(key, x, v, p, g, w, c1, c2, vmax, lower, upper):
+    """One particle's velocity and position update, with the clamp and the wall rule above."""
+    k1, k2 = jax.random.split(key)
+    r1 = jax.random.uniform(k1, x.shape, dtype=x.dtype)
+    r2 = jax.random.uniform(k2, x.shape, dtype=x.dtype)
+    v = w * v + c1 * r1 * (p - x) + c2 * r2 * (g - x)
+    v = jnp.clip(v, -vmax, vmax)
+    x_new = x + v
+    outside = (x_new < lower) | (x_new > upper)
+    return jnp.clip(x_new, lower, upper), jnp.where(outside, 0.0, v)
+
+
+class PSO(eqx.Module):
+    """Global-best PSO with the paper's settings as defaults (section 4.2.3).
+
+    ``w``, ``c1``, ``c2`` and ``vmax_frac`` are array leaves: vmap over a stacked ``PSO`` to sweep
+    them. ``n_particles`` and ``n_iterations`` are static.
+    """
+
+    n_particles: int = eqx.field(static=True, default=100)
+    n_iterations: int = eqx.field(static=True, default=100)
+    w: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.62)
+    c1: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=2.0)
+    c2: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=2.0)
+    vmax_frac: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.2)
+
+    def __check_init__(self):
+        if self.n_particles < 2:
+            raise ValueError(f"PSO needs n_particles >= 2, got {self.n_particles}")
+        if self.n_iterations < 0:
+            raise ValueError(f"PSO needs n_iterations >= 0, got {self.n_iterations}")
+
+    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> PSOState:
+        """Uniform swarm in the box, evaluated once (``n_particles`` evaluations)."""
+        kx, kv, key = jax.random.split(key, 3)
+        dim = lower.shape[0]
+        span = upper - lower
+        x = lower + span * jax.random.uniform(kx, (self.n_particles, dim), dtype=lower.dtype)
+        vmax = self.vmax_frac * span
+        v = jax.random.uniform(kv, (self.n_particles, dim), minval=-vmax, maxval=vmax, dtype=lower.dtype)
+        fx = evaluate(loss_fn, x)
+        i = jnp.argmin(fx)
+        return PSOState(x, v, fx, x, fx, x[i], fx[i], jnp.asarray(self.n_particles), key)
+
+    def move(self, state: PSOState, loss_fn: LossFn, lower, upper) -> PSOState:
+        """Velocity/position update of every particle, evaluation, then personal and global bests."""
+        key, sub = jax.random.split(state.key)
+        keys = jax.random.split(sub, self.n_particles)
+        vmax = self.vmax_frac * (upper - lower)
+        x, v = jax.vmap(_move_one, in_axes=(0, 0, 0, 0, None, None, None, None, None, None, None))(
+            keys, state.x, state.v, state.pbest, state.best_x, self.w, self.c1, self.c2, vmax, lower, upper
+        )
+        fx = evaluate(loss_fn, x)
+        state = eqx.tree_at(lambda s: (s.x, s.v, s.fx, s.key, s.n_evals), state,
+                            (x, v, fx, key, state.n_evals + self.n_particles))
+        return self.absorb(state, jnp.arange(self.n_particles), x, fx)
+
+    def absorb(self, state: PSOState, index: Int[Array, " k"], x: Population, fx: Float[Array, " k"]) -> PSOState:
+        """Write positions ``x`` with losses ``fx`` into particles ``index`` and update the bests.
+
+        Used by :meth:`move` and by GA-PSO to hand the GA's offspring back to the swarm (paper
+        section 4.2.1, steps 7-8). Does not evaluate anything.
+        """
+        better = fx < state.pbest_f[index]
+        pbest = state.pbest.at[index].set(jnp.where(better[:, None], x, state.pbest[index]))
+        pbest_f = state.pbest_f.at[index].set(jnp.where(better, fx, state.pbest_f[index]))
+        best_x, best_loss = best_of(x, fx, state.best_x, state.best_loss)
+        return eqx.tree_at(
+            lambda s: (s.x, s.fx, s.pbest, s.pbest_f, s.best_x, s.best_loss),
+            state,
+            (state.x.at[index].set(x), state.fx.at[index].set(fx), pbest, pbest_f, best_x, best_loss),
+        )
+
+    def step(self, state: PSOState, loss_fn: LossFn, lower, upper) -> PSOState:
+        """One PSO iteration (``n_particles`` evaluations)."""
+        return self.move(state, loss_fn, lower, upper)
+
+    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
+        """Init plus ``n_iterations`` steps under ``lax.scan``; history has ``n_iterations + 1`` rows."""
+        return scan_run(self, key, loss_fn, lower, upper, self.n_iterations)
