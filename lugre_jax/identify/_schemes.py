@@ -219,7 +219,7 @@ def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: in
     ls = np.array([float(loss_fn(jnp.asarray(x))) for x in xs])
     i = int(np.nanargmin(np.where(np.isfinite(ls), ls, np.nan))) if np.isfinite(ls).any() else 0
     try:
-        ev = int(np.sum(np.asarray(_first(res, "evaluations", "n_evaluations", "nfev"))))
+        ev = int(np.sum(np.asarray(_first(res, "n_evals", "evaluations", "nfev"))))
     except AttributeError:
         ev = -1
     try:
@@ -408,7 +408,7 @@ class Identification:
             for c in cols:
                 if c in s.names:
                     i = s.names.index(c)
-                    cells.append(f"{s.x[i]:.4f} +- {s.uncertainty.se[i]:.2g}")
+                    cells.append(f"{s.x[i]:.5g} +- {s.uncertainty.se[i]:.2g}")
                 else:
                     cells.append("/")
             lines.append(

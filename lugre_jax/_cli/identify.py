@@ -1,0 +1,107 @@
+"""``lugre-jax identify DATA``: static (Stribeck) identification, whole or piecewise (paper section 4.2).
+
+DATA is a Stribeck CSV (velocity_deg_s, torque_nm[, branch]) or an EPOS Studio steady-state folder.
+Writes RESULT.json (one entry per segment: velocity range, Fc/Fs/vs/sigma2 in the paper's units,
+loss, standard errors, evaluations, wall time) and optionally a PNG of the identified curve.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "identify",
+        help="identify static Stribeck parameters from steady-state data (whole or piecewise)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("data", metavar="DATA", help="Stribeck CSV file or EPOS steady-state export folder")
+    p.add_argument("--method", default="gapso", choices=["ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm"])
+    p.add_argument("--scheme", default="piecewise", choices=["whole", "piecewise"])
+    p.add_argument("--model", default="stribeck", choices=["stribeck", "coulomb_viscous"],
+                   help="model for --scheme whole (default stribeck, eq. 10; coulomb_viscous is eq. 11)")
+    p.add_argument("--refine", action="store_true", help="polish the best result with gradient least squares")
+    p.add_argument("--seeds", type=int, default=1, help="independent optimiser runs (best is kept)")
+    p.add_argument("--seed", type=int, default=0, help="base PRNG seed")
+    p.add_argument("--direction", default="positive", choices=["positive", "negative"],
+                   help="which velocity direction to identify (negative data are mirrored)")
+    p.add_argument("--bounds", default="paper",
+                   help="'paper' (Fc,Fs,sigma2 in [0,10], vs in [0,1]), 'auto' (scaled to the data) or NAME=LO:HI,...")
+    p.add_argument("--edges", default=None, help="piecewise boundaries VMIN,VCRIT in deg/s (default: detected)")
+    p.add_argument("--target", default="data", choices=["data", "sines"],
+                   help="fit the averaged data (default) or the eq. (12) sum-of-sines curves (the paper's route)")
+    p.add_argument("--out", required=True, metavar="RESULT.json")
+    p.add_argument("--plot", default=None, metavar="FIG.png")
+
+
+def plot_identification(res, path) -> None:
+    """Identified curve(s) over the averaged data (Fig. 6 style)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from ..io._atomic import save_figure
+
+    d = res.data
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for br, mk in (("accel", "o"), ("decel", "s")):
+        m = (d.branch == br) & (d.velocity > 0)
+        if m.any():
+            ax.errorbar(d.velocity[m], d.torque[m], yerr=np.nan_to_num(2 * d.torque_se[m]), fmt=mk, ms=3,
+                        alpha=0.6, label=f"data ({br}), +-2 SE")
+    for s in res.segments:
+        lo = max(s.v_range[0], float(np.min(s.velocity)) if s.velocity.size else s.v_range[0])
+        v = np.linspace(lo, s.v_range[1], 300)
+        ax.plot(v, np.asarray(s.model().steady_state(v)), "--" if s.branch == "decel" else "-", lw=2,
+                label=f"segment {s.name}")
+    if res.boundaries is not None:
+        for vb in (res.boundaries.v_min, res.boundaries.v_crit):
+            ax.axvline(vb, color="gray", lw=0.8, ls=":")
+    ax.set_xlabel("velocity [deg/s]")
+    ax.set_ylabel("friction torque [N*m]")
+    ax.set_title(f"{res.scheme} identification ({res.method}), RMS {res.rms():.3g} N*m")
+    ax.legend(fontsize=8)
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def run(args) -> int:
+    import jax
+
+    from ..identify._schemes import identify
+    from ..io._atomic import write_json
+    from ..io._epos import load_friction_data
+
+    if args.seeds < 1:
+        raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
+    data = load_friction_data(args.data)
+    if args.direction == "negative":
+        data = data.direction(-1)
+    edges = None
+    if args.edges:
+        try:
+            edges = tuple(float(x) for x in args.edges.split(","))
+        except ValueError:
+            raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}") from None
+        if len(edges) != 2:
+            raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}")
+    kw = dict(key=jax.random.key(args.seed), n_seeds=args.seeds, refine=args.refine, bounds=args.bounds)
+    if args.scheme == "piecewise":
+        if args.model != "stribeck":
+            raise ValueError("--model applies to --scheme whole only (piecewise uses eq. 10 below and eq. 11 above v_crit)")
+        res = identify(data, "piecewise", args.method, edges=edges, target=args.target, **kw)
+    else:
+        res = identify(data, "whole", args.method, kind=args.model, **kw)
+    out = res.as_dict()
+    out["command"] = dict(vars(args))
+    write_json(args.out, out)
+    print(res.table())
+    for s in res.segments:
+        print(f"segment {s.name}: {s.uncertainty.statement}")
+    if args.plot:
+        plot_identification(res, args.plot)
+    return 0
