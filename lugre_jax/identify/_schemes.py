@@ -168,31 +168,11 @@ class _Fit:
     wall_time: float
 
 
-def _first(obj, *names):
+def _first(obj, *names):  # tolerate renamed result fields
     for n in names:
         if hasattr(obj, n):
             return getattr(obj, n)
     raise AttributeError(f"optimiser result has none of {names}")
-
-
-def _scipy_multistart(loss_fn, residual_fn, lo, hi, key, n_seeds, max_nfev=2000) -> _Fit:
-    """Bounded Levenberg-Marquardt-type least squares (scipy TRF) from ``n_seeds`` uniform random starts;
-    used when the package optimisers are not available."""
-    from scipy.optimize import least_squares
-
-    r = jax.jit(residual_fn)
-    jac = jax.jit(jax.jacfwd(residual_fn))
-    starts = np.asarray(jax.random.uniform(key, (n_seeds, lo.size), minval=lo, maxval=hi))
-    xs, ls, nev = [], [], 0
-    t0 = time.perf_counter()
-    for x0 in starts:
-        res = least_squares(lambda x: np.asarray(r(x)), x0, jac=lambda x: np.asarray(jac(x)), bounds=(lo, hi),
-                            method="trf", x_scale="jac", max_nfev=max_nfev)
-        xs.append(res.x)
-        ls.append(float(loss_fn(jnp.asarray(res.x))))
-        nev += int(res.nfev)
-    i = int(np.nanargmin(ls))
-    return _Fit(np.asarray(xs[i]), float(ls[i]), np.asarray(ls), nev, time.perf_counter() - t0)
 
 
 def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: int = 1, refine: bool = False, **settings) -> _Fit:
@@ -201,14 +181,7 @@ def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: in
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
     lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
-    try:
-        from . import optimise  # the optimiser entry point (lugre_jax.identify.optimise)
-    except ImportError:
-        optimise = None
-    if optimise is None:
-        if method == "lm":
-            return _scipy_multistart(loss_fn, residual_fn, lo, hi, key, max(n_seeds, 1))
-        raise ValueError(f"method {method!r} needs lugre_jax.identify.optimise, which is not available in this build; use --method lm")
+    from ._run import optimise
     t0 = time.perf_counter()
     res = optimise(method, loss_fn, jnp.asarray(lo), jnp.asarray(hi), key=key, n_seeds=n_seeds,
                    residual_fn=residual_fn, refine=refine, **settings)
