@@ -1,0 +1,427 @@
+"""Inverse joint model and its fit, for diagnosing model-reality mismatch on a recording.
+
+Joint of Li et al. (Electronics 2020, 9, 284), eq. (1)-(2) with the LuGre friction of eq. (9):
+``tau = J*theta_dd + F_LuGre(z, theta_d) + offset (+ candidate physics)``.
+
+Why the INVERSE model (z driven by the measured velocity, torque predicted sample by sample) and not a
+forward simulation of the closed loop:
+
+* the residual ``tau_measured - tau_predicted`` is LINEAR in the torque noise: each residual sample is
+  that sample's noise plus whatever physics is missing there, so residual structure can be located
+  in time, velocity, position and direction, and standard (block-corrected) statistics apply;
+* there is NO CLOSED-LOOP DRIFT: a forward simulation integrates small model errors into position and
+  velocity errors that the controller then reacts to, smearing a local mismatch over the whole run
+  and making the residual depend on the (unknown) controller;
+* it needs only the recording, not the controller, and it is cheap (one ``lax.scan``), so the model
+  can be fitted by gradient (Levenberg-Marquardt) in seconds on 100k samples.
+
+The price is errors-in-variables: velocity and acceleration are taken as measured (acceleration from
+low-passed velocity by central differences, as the EMPS benchmark does). With encoder-grade position
+that error is small compared to the torque noise.
+
+Bristle state: ``dz/dt = v - sigma0*|v|*z/g(v)`` relaxes with rate ``sigma0*|v|/g(v)``, which at high
+speed exceeds the sampling rate (stiff). Holding ``v`` at the mid-interval value, the ODE is linear in
+``z`` and is integrated EXACTLY over each sample interval:
+``z+ = z*exp(-r*h) + v*h*phi1(r*h)``, ``phi1(x) = (1 - exp(-x))/x`` -- unconditionally stable, exact
+for piecewise-constant velocity, and differentiable in every parameter.
+
+Units: whatever the recording's are (the model is unit-agnostic); for CSV recordings the paper's
+(deg, deg/s, N*m; J in N*m*s^2/deg, sigma0 in N*m/deg, sigma1/sigma2 in N*m*s/deg), for EMPS SI.
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+from typing import Callable
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optimistix as optx
+
+from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck
+from .._types import Array, Float
+
+
+class Kinematics(eqx.Module):
+    """Measured joint kinematics on the sample grid (recording units)."""
+
+    t: Float[Array, " n"]
+    theta: Float[Array, " n"]
+    v: Float[Array, " n"]
+    a: Float[Array, " n"]
+    h: Float[Array, " n-1"]  # sample intervals
+
+
+def kinematics_of(rec) -> Kinematics:
+    return Kinematics(
+        jnp.asarray(rec.time), jnp.asarray(rec.position), jnp.asarray(rec.velocity),
+        jnp.asarray(rec.acceleration), jnp.asarray(np.diff(rec.time)),
+    )
+
+
+class Terms(eqx.Module):
+    """What candidate physics may change before friction is evaluated: the friction law and the
+    velocity that drives it (e.g. the load-side velocity behind a backlash)."""
+
+    friction: AbstractFrictionModel
+    v_friction: Float[Array, " n"]
+    friction_gain: Float[Array, " n"]  # multiplies the friction torque (engagement, warming, ...)
+
+
+class AbstractCandidate(eqx.Module):
+    """A piece of physics that extends the joint model's predicted torque.
+
+    Final subclasses declare their parameters with :func:`cparam` (bounds relative to data scales),
+    a class-level ``id`` and plain-language ``explanation``.
+    """
+
+    @abc.abstractmethod
+    def prepare(self, terms: Terms, kin: Kinematics) -> Terms:
+        """Modify the friction law / friction velocity (identity for purely additive physics)."""
+
+    @abc.abstractmethod
+    def extra_torque(self, kin: Kinematics, friction_torque, inertial_torque) -> Float[Array, " n"]:
+        """Additive torque [recording torque unit] (zeros for physics acting through ``prepare``)."""
+
+    @abc.abstractmethod
+    def initial_guesses(self, ctx: dict) -> list["AbstractCandidate"]:
+        """Starting points for fitting this candidate, from the data scales and located residual."""
+
+    @abc.abstractmethod
+    def applicable(self, ctx: dict) -> bool:
+        """Whether the candidate makes sense for this recording/baseline (e.g. gravity needs angles)."""
+
+    @abc.abstractmethod
+    def describe(self, ctx: dict) -> dict:
+        """Parameters in plain units plus derived quantities (e.g. period, amplitude) for the report."""
+
+
+def cparam(scale: str, lo: float, hi: float, log: bool = False, **kw):
+    """A candidate parameter with bounds ``[lo, hi]`` in multiples of data scale ``scale``.
+
+    Scales (from :func:`data_scales`): ``T`` torque, ``V`` velocity, ``A`` acceleration, ``P`` position
+    span, ``D`` duration, ``1`` dimensionless, ``T/V``, ``T/A``, ``T/P``, ``1/D``, ``fs`` sample rate.
+    """
+    return eqx.field(converter=jnp.asarray, metadata=dict(scale=scale, rel_bounds=(lo, hi), log=log), **kw)
+
+
+def data_scales(rec) -> dict[str, float]:
+    tau = np.asarray(rec.torque)
+    v = np.abs(np.asarray(rec.velocity))
+    a = np.abs(np.asarray(rec.acceleration))
+    T = float(np.percentile(np.abs(tau - np.median(tau)), 99)) or 1.0
+    V = float(np.percentile(v, 99)) or 1.0
+    A = float(np.percentile(a, 99)) or 1.0
+    P = float(np.ptp(rec.position)) or 1.0
+    D = float(rec.time[-1] - rec.time[0])
+    fs = 1.0 / float(np.median(np.diff(rec.time)))
+    s = {"T": T, "V": V, "A": A, "P": P, "D": D, "1": 1.0, "fs": fs}
+    s.update({"T/V": T / V, "T/A": T / A, "T/P": T / P, "1/D": 1.0 / D})
+    return s
+
+
+def lugre_torque(f: LuGre, v, h, z0=None):
+    """LuGre torque along a measured velocity, exact-exponential bristle update (see module doc)."""
+    g = f.g(v)
+    if z0 is None:
+        z0 = jnp.sign(v[0]) * g[0] / f.sigma0
+    vint = 0.5 * (v[:-1] + v[1:])
+    gint = f.g(vint)
+
+    def step(z, inp):
+        vi, gi, hi = inp
+        x = f.sigma0 * jnp.abs(vi) / gi * hi
+        xs = jnp.where(x > 1e-8, x, 1.0)
+        e = jnp.exp(-x)
+        phi = jnp.where(x > 1e-8, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+        zn = z * e + vi * hi * phi
+        return zn, zn
+
+    _, zs = jax.lax.scan(step, z0, (vint, gint, h))
+    z = jnp.concatenate([jnp.reshape(z0, (1,)), zs])
+    dz = v - f.sigma0 * jnp.abs(v) * z / g
+    return f.sigma0 * z + f.sigma1 * dz + f.sigma2 * v
+
+
+def friction_torque(f: AbstractFrictionModel, v, h):
+    if isinstance(f, LuGre):
+        return lugre_torque(f, v, h)
+    return f.steady_state(v)
+
+
+class JointModel(eqx.Module):
+    """Inverse joint model: ``tau = J*a + F(v) + offset + sum(candidate torques)`` (recording units)."""
+
+    J: Float[Array, ""]
+    friction: AbstractFrictionModel
+    offset: Float[Array, ""]
+    candidates: tuple = ()
+
+    def parts(self, kin: Kinematics):
+        """(inertial torque, friction torque, total predicted torque)."""
+        terms = Terms(self.friction, kin.v, jnp.ones_like(kin.v))
+        for c in self.candidates:
+            terms = c.prepare(terms, kin)
+        F = terms.friction_gain * friction_torque(terms.friction, terms.v_friction, kin.h)
+        inertial = self.J * kin.a
+        tau = inertial + F + self.offset
+        for c in self.candidates:
+            tau = tau + c.extra_torque(kin, F, inertial)
+        return inertial, F, tau
+
+    def predict(self, kin: Kinematics) -> Float[Array, " n"]:
+        return self.parts(kin)[2]
+
+
+# ---------------------------------------------------------------------------------------------
+# Bounded parameter space: x = lo + (hi - lo)*sigmoid(u)  (or the same in log-space)
+
+
+def _get(model, path):
+    x = model
+    for p in path:
+        x = x[p] if isinstance(p, int) else getattr(x, p)
+    return x
+
+
+@dataclasses.dataclass(frozen=True)
+class Spec:
+    name: str
+    path: tuple  # attribute names / tuple indices from the JointModel to the leaf
+    lo: float
+    hi: float
+    log: bool = False
+
+    def where(self, model):
+        return _get(model, self.path)
+
+
+class FitSpace:
+    """Free parameters of a :class:`JointModel`, each mapped from an unbounded ``u`` by a sigmoid.
+
+    The paths are static (hashable, so compiled fits are reused across recordings of one shape);
+    the bounds are data and travel as arrays.
+    """
+
+    def __init__(self, specs: list[Spec]):
+        self.specs = list(specs)
+        lo = np.array([s.lo for s in self.specs], float)
+        hi = np.array([s.hi for s in self.specs], float)
+        lg = np.array([s.log for s in self.specs], bool)
+        if np.any(lo >= hi):
+            bad = [s.name for s in self.specs if not s.lo < s.hi]
+            raise ValueError(f"empty bounds for {bad}")
+        self.lo = np.where(lg, np.log(np.maximum(lo, 1e-300)), lo)
+        self.hi = np.where(lg, np.log(hi), hi)
+        self.lg = lg
+        self.paths = tuple(s.path for s in self.specs)
+
+    @property
+    def names(self):
+        return [s.name for s in self.specs]
+
+    @property
+    def bounds(self):
+        return (jnp.asarray(self.lo), jnp.asarray(self.hi), jnp.asarray(self.lg))
+
+    def to_model(self, template: JointModel, u) -> JointModel:
+        return _to_model(self.paths, self.bounds, template, u)
+
+    def to_u(self, model: JointModel):
+        x = np.array([float(s.where(model)) for s in self.specs])
+        y = np.where(self.lg, np.log(np.maximum(x, 1e-300)), x)
+        p = np.clip((y - self.lo) / (self.hi - self.lo), 1e-6, 1 - 1e-6)
+        return jnp.asarray(np.log(p) - np.log1p(-p))
+
+    def as_dict(self, model: JointModel) -> dict[str, float]:
+        return {s.name: float(s.where(model)) for s in self.specs}
+
+
+def _to_model(paths, bounds, template, u):
+    lo, hi, lg = bounds
+    y = lo + (hi - lo) * jax.nn.sigmoid(u)
+    x = jnp.where(lg, jnp.exp(y), y)
+    return eqx.tree_at(lambda m: [_get(m, p) for p in paths], template,
+                       [x[i] for i in range(len(paths))])
+
+
+def baseline_specs(model: JointModel, scales: dict, fit_offset: bool) -> list[Spec]:
+    T, V, A, P = scales["T"], scales["V"], scales["A"], scales["P"]
+    specs = [Spec("J", ("J",), 0.0, max(5 * T / A, 3 * float(model.J)))]
+    f = model.friction
+    specs += [Spec("Fc", ("friction", "Fc"), 0.0, 2 * T)]
+    if isinstance(f, (LuGre, Stribeck)):
+        specs += [Spec("Fs", ("friction", "Fs"), 0.0, 4 * T),
+                  Spec("vs", ("friction", "vs"), 1e-4 * V, V, True)]
+    specs += [Spec("sigma2", ("friction", "sigma2"), 0.0, max(5 * T / V, 3 * float(f.sigma2)))]
+    if isinstance(f, LuGre):
+        specs += [Spec("sigma0", ("friction", "sigma0"), T / (0.1 * P), T / (1e-8 * P), True),
+                  Spec("sigma1", ("friction", "sigma1"), 0.0, 100 * T / V)]
+    if fit_offset:
+        specs += [Spec("offset", ("offset",), -T, T)]
+    return specs
+
+
+def candidate_specs(model: JointModel, k: int, scales: dict) -> list[Spec]:
+    """Specs of the parameters of ``model.candidates[k]``."""
+    c = model.candidates[k]
+    out = []
+    for fld in dataclasses.fields(c):
+        md = fld.metadata
+        if "rel_bounds" not in md:
+            continue
+        s = 1.0
+        for part in md["scale"].split("*"):
+            num, _, den = part.partition("/")
+            s *= scales.get(num, 1.0) if num != "1" else 1.0
+            if den:
+                s /= scales[den] if den != "D" else scales["D"]
+        lo, hi = md["rel_bounds"]
+        name = fld.name
+        out.append(Spec(f"{c.id}.{name}", ("candidates", k, name), lo * s, hi * s, md["log"]))
+    return out
+
+
+def clip_into(space: FitSpace, model: JointModel) -> JointModel:
+    """Move every free parameter strictly inside its bounds."""
+    return space.to_model(model, space.to_u(model))
+
+
+# ---------------------------------------------------------------------------------------------
+# Fitting
+
+
+def _residual_fn(u, args):
+    paths, bounds, template, kin, tau, w, scale = args
+    model = _to_model(paths, bounds, template, u)
+    return w * (tau - model.predict(kin)) / scale
+
+
+@eqx.filter_jit
+def _lm(u0, paths, bounds, template, kin, tau, w, scale, max_steps):
+    solver = optx.LevenbergMarquardt(rtol=1e-7, atol=1e-9)
+    sol = optx.least_squares(_residual_fn, solver, u0,
+                             args=(paths, bounds, template, kin, tau, w, scale),
+                             max_steps=max_steps, throw=False)
+    return sol.value, sol.result, sol.stats["num_steps"]
+
+
+@eqx.filter_jit
+def _predict(model, kin):
+    return model.predict(kin)
+
+
+@eqx.filter_jit
+def _parts(model, kin):
+    return model.parts(kin)
+
+
+def predict(model: JointModel, kin: Kinematics) -> np.ndarray:
+    return np.asarray(_predict(model, kin))
+
+
+def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_steps: int = 200):
+    """Levenberg-Marquardt (optimistix) on the weighted residual; returns (model, info).
+
+    ``weights`` is 1 on training samples and 0 on held-out ones. A solver failure is reported in
+    ``info['result']`` (never a silent NaN): the model returned is then the best finite one seen.
+    """
+    tau = jnp.asarray(tau)
+    w = jnp.asarray(weights, dtype=tau.dtype)
+    scale = jnp.asarray(float(np.std(np.asarray(tau)[np.asarray(weights) > 0])) or 1.0)
+    u0 = space.to_u(model)
+    u, result, steps = _lm(u0, space.paths, space.bounds, model, kin, tau, w, scale, max_steps)
+    fitted = space.to_model(model, u)
+    ok = bool(np.all(np.isfinite(np.asarray(u))))
+    if not ok:
+        fitted = model
+    return fitted, {"result": str(result) if not ok else ("ok" if result == optx.RESULTS.successful
+                                                          else "max_steps_or_other"),
+                    "steps": int(steps)}
+
+
+# ---------------------------------------------------------------------------------------------
+# Validation split: interleaved time blocks
+
+
+def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25) -> np.ndarray:
+    """Index of the ~``block_s``-long time block of every sample (default ~1 s, at least 25 blocks)."""
+    t = np.asarray(t)
+    D = t[-1] - t[0]
+    if block_s is None:
+        block_s = min(1.0, D / min_blocks)
+    return np.minimum(((t - t[0]) / block_s).astype(int), int(D / block_s))
+
+
+def validation_mask(blocks: np.ndarray, every: int = 5, phase: int = 2) -> np.ndarray:
+    """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost)."""
+    return (blocks % every) == phase
+
+
+# ---------------------------------------------------------------------------------------------
+# Baseline construction
+
+
+def initial_baseline(rec, friction: str = "lugre", fit_offset: bool = False) -> JointModel:
+    """A starting baseline from linear least squares on ``J*a + Fc*sign(v) + sigma2*v (+ offset)``
+    plus a 1-D search for the Stribeck velocity; sigma0 from a pre-sliding displacement of 1e-4 of
+    the position span."""
+    v, a, y = rec.velocity, rec.acceleration, rec.torque
+    sc = data_scales(rec)
+    cols = [a, np.sign(v), v] + ([np.ones_like(v)] if fit_offset else [])
+    X = np.column_stack(cols)
+    beta, *_ = np.linalg.lstsq(X, y, rcond=None)
+    J = max(beta[0], 1e-3 * sc["T/A"])
+    Fc = max(beta[1], 1e-3 * sc["T"])
+    s2 = max(beta[2], 1e-4 * sc["T/V"])
+    off = beta[3] if fit_offset else 0.0
+    if friction == "coulomb_viscous":
+        return JointModel(jnp.asarray(J), CoulombViscous(Fc=Fc, sigma2=s2), jnp.asarray(off))
+    best = (np.inf, Fc, Fc, 0.1 * sc["V"])
+    for vs in sc["V"] * np.logspace(-3, -0.3, 12):
+        Xs = np.column_stack(cols + [np.sign(v) * np.exp(-(v / vs) ** 2)])
+        b, *_ = np.linalg.lstsq(Xs, y, rcond=None)
+        sse = float(np.sum((y - Xs @ b) ** 2))
+        if sse < best[0] and b[1] > 0:
+            best = (sse, b[1], b[1] + max(b[-1], 0.0), vs)
+    _, Fc, Fs, vs = best
+    sigma0 = max(Fs, Fc) / (1e-4 * sc["P"])
+    if friction == "stribeck":
+        return JointModel(jnp.asarray(J), Stribeck(Fc=Fc, Fs=Fs, vs=vs, sigma2=s2), jnp.asarray(off))
+    return JointModel(jnp.asarray(J), LuGre(Fc=Fc, Fs=Fs, vs=vs, sigma2=s2, sigma0=sigma0,
+                                            sigma1=0.1 * s2), jnp.asarray(off))
+
+
+def model_params(model: JointModel) -> dict[str, float]:
+    """All physical parameters of the baseline part, by name (recording units)."""
+    out = {"J": float(model.J), "offset": float(model.offset)}
+    f = model.friction
+    for name in ("Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta"):
+        if hasattr(f, name):
+            out[name] = float(getattr(f, name))
+    out["friction_model"] = type(f).__name__
+    return out
+
+
+def baseline_from_params(params: dict) -> JointModel:
+    """Build a baseline from a params dict (as written in REPORT.json ``baseline.params``)."""
+    known = {"J", "offset", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta", "friction_model"}
+    unknown = set(params) - known
+    if unknown:
+        raise ValueError(f"--params: unknown parameter(s) {sorted(unknown)}; expected some of {sorted(known)}")
+    kind = params.get("friction_model", "LuGre")
+    try:
+        if kind == "CoulombViscous":
+            f = CoulombViscous(Fc=params["Fc"], sigma2=params["sigma2"])
+        elif kind == "Stribeck":
+            f = Stribeck(Fc=params["Fc"], Fs=params["Fs"], vs=params["vs"], sigma2=params["sigma2"],
+                         delta=params.get("delta", 2.0))
+        else:
+            f = LuGre(Fc=params["Fc"], Fs=params["Fs"], vs=params["vs"], sigma2=params["sigma2"],
+                      sigma0=params["sigma0"], sigma1=params["sigma1"], delta=params.get("delta", 2.0))
+        return JointModel(jnp.asarray(float(params["J"])), f, jnp.asarray(float(params.get("offset", 0.0))))
+    except KeyError as e:
+        raise ValueError(f"--params: missing parameter {e.args[0]!r} for a {kind} baseline") from None

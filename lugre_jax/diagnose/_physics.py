@@ -1,0 +1,322 @@
+"""Library of candidate missing physics for the joint of Li et al. (Electronics 2020, 9, 284).
+
+The paper's joint model (eq. 1-2, 9) assumes gravity compensated (G = 0), a rigid transmission, a
+symmetric LuGre friction with the Stribeck exponent fixed at 2, and constant parameters. Each
+candidate below relaxes one of those assumptions; each is a final equinox Module with an ``id``, a
+plain-language ``explanation`` and parameters whose bounds are multiples of data scales (so the same
+library works on deg/N*m recordings and on SI recordings such as EMPS).
+
+All torques are in the recording's torque unit; angles in the recording's position unit.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import jax.scipy.linalg as jsl
+import numpy as np
+
+from ..friction import LuGre, Stribeck
+from ._model import AbstractCandidate, Kinematics, Terms, cparam
+
+TWO_PI = 2 * np.pi
+
+
+def _zeros(kin):
+    return jnp.zeros_like(kin.v)
+
+
+class PositionRipple(AbstractCandidate):
+    """Torque ripple periodic in position (cogging, gear-mesh, bearing or screw-lead errors)."""
+
+    amplitude: jax.Array = cparam("T", 0.0, 1.0)
+    period: jax.Array = cparam("P", 1e-4, 2.0, log=True)
+    phase: jax.Array = cparam("1", -3 * np.pi, 3 * np.pi)
+    id: ClassVar[str] = "position_ripple"
+    explanation: ClassVar[str] = (
+        "A torque that repeats with joint position (period in position units): cogging of the motor, "
+        "gear-mesh or screw-lead error, or a bearing defect. It adds A*sin(2*pi*theta/period + phase) "
+        "to the joint torque whatever the speed or direction.")
+
+    def prepare(self, terms, kin):
+        return terms
+
+    def extra_torque(self, kin, F, inertial):
+        return self.amplitude * jnp.sin(TWO_PI * kin.theta / self.period + self.phase)
+
+    def initial_guesses(self, ctx):
+        out = []
+        for pk in ctx["position_peaks"][:3]:
+            out.append(PositionRipple(pk["amplitude"], pk["period"], pk["phase"]))
+        return out
+
+    def applicable(self, ctx):
+        return len(ctx["position_peaks"]) > 0
+
+    def describe(self, ctx):
+        A, P, ph = float(self.amplitude), float(self.period), float(self.phase)
+        return {"amplitude": A, "period": P, "phase_rad": float(np.mod(ph, TWO_PI)),
+                "units": {"amplitude": ctx["units"]["torque"], "period": ctx["units"]["position"]}}
+
+
+class Gravity(AbstractCandidate):
+    """Uncompensated gravity load G(theta) = A*sin(theta + phase), eq. (1) with G != 0."""
+
+    amplitude: jax.Array = cparam("T", 0.0, 2.0)
+    phase: jax.Array = cparam("1", -3 * np.pi, 3 * np.pi)
+    to_rad: jax.Array = eqx.field(converter=jnp.asarray, default=np.pi / 180)
+    id: ClassVar[str] = "gravity"
+    explanation: ClassVar[str] = (
+        "An uncompensated gravity (or spring-balancer) torque G(theta) = A*sin(theta + phase) that "
+        "depends on the joint angle with a period of one revolution: the paper assumes the arm's "
+        "gravity compensator removes it (G = 0, section 3.1); this says it does not, fully.")
+
+    def prepare(self, terms, kin):
+        return terms
+
+    def extra_torque(self, kin, F, inertial):
+        return self.amplitude * jnp.sin(kin.theta * self.to_rad + self.phase)
+
+    def initial_guesses(self, ctx):
+        th = np.asarray(ctx["rec"].position) * ctx["to_rad"]
+        r = ctx["residual"]
+        X = np.column_stack([np.sin(th), np.cos(th), np.ones_like(th)])
+        b, *_ = np.linalg.lstsq(X, r, rcond=None)
+        A = float(np.hypot(b[0], b[1]))
+        ph = float(np.arctan2(b[1], b[0]))
+        return [Gravity(A, ph, ctx["to_rad"])]
+
+    def applicable(self, ctx):
+        return ctx["rec"].rotary
+
+    def describe(self, ctx):
+        return {"amplitude": float(self.amplitude), "phase_rad": float(np.mod(self.phase, TWO_PI)),
+                "units": {"amplitude": ctx["units"]["torque"]}}
+
+
+class Asymmetry(AbstractCandidate):
+    """Direction-dependent friction: Fc+ != Fc- (equivalently a torque offset) and sigma2+ != sigma2-."""
+
+    offset: jax.Array = cparam("T", -1.0, 1.0)
+    dsigma2: jax.Array = cparam("T/V", -1.0, 1.0)
+    id: ClassVar[str] = "asymmetry"
+    explanation: ClassVar[str] = (
+        "Friction is not the same in both directions: the Coulomb level is Fc + offset when moving "
+        "positive and Fc - offset when moving negative (indistinguishable, while sliding, from a "
+        "constant torque offset such as a sensor bias or unbalanced load), and the viscous coefficient "
+        "is sigma2 + dsigma2 / sigma2 - dsigma2.")
+
+    def prepare(self, terms, kin):
+        return terms
+
+    def extra_torque(self, kin, F, inertial):
+        return self.offset + self.dsigma2 * jnp.abs(kin.v)
+
+    def initial_guesses(self, ctx):
+        v, r = np.asarray(ctx["rec"].velocity), ctx["residual"]
+        X = np.column_stack([np.ones_like(v), np.abs(v)])
+        b, *_ = np.linalg.lstsq(X, r, rcond=None)
+        return [Asymmetry(float(b[0]), float(b[1]))]
+
+    def applicable(self, ctx):
+        return True
+
+    def describe(self, ctx):
+        u = ctx["units"]
+        return {"offset": float(self.offset), "dsigma2": float(self.dsigma2),
+                "Fc_plus_minus_Fc_minus": 2 * float(self.offset),
+                "units": {"offset": u["torque"], "dsigma2": f"{u['torque']}*{u['time']}/{u['position']}"}}
+
+
+class ThermalDrift(AbstractCandidate):
+    """Friction drifting in time (warm-up): F(t) = F*(1 + rate*(t - t_mid))."""
+
+    rate: jax.Array = cparam("1/D", -1.0, 1.0)
+    id: ClassVar[str] = "thermal_drift"
+    explanation: ClassVar[str] = (
+        "Friction changes during the recording, as lubricant warms up and thins (or the joint cools): "
+        "the whole friction torque is scaled by 1 + rate*(t - t_mid); rate*duration is the relative "
+        "change from start to end.")
+
+    def prepare(self, terms, kin):
+        tm = 0.5 * (kin.t[0] + kin.t[-1])
+        return eqx.tree_at(lambda x: x.friction_gain, terms, terms.friction_gain * (1 + self.rate * (kin.t - tm)))
+
+    def extra_torque(self, kin, F, inertial):
+        return _zeros(kin)
+
+    def initial_guesses(self, ctx):
+        t = np.asarray(ctx["rec"].time)
+        x = (t - 0.5 * (t[0] + t[-1])) * ctx["friction_torque"]
+        rate = float(np.dot(x, ctx["residual"]) / max(np.dot(x, x), 1e-300))
+        return [ThermalDrift(rate)]
+
+    def applicable(self, ctx):
+        return True
+
+    def describe(self, ctx):
+        D = ctx["scales"]["D"]
+        return {"rate": float(self.rate), "relative_change_over_recording": float(self.rate) * D,
+                "units": {"rate": f"1/{ctx['units']['time']}"}}
+
+
+class StribeckShape(AbstractCandidate):
+    """Stribeck exponent delta != 2 in g(v) = Fc + (Fs - Fc)*exp(-|v/vs|^delta), eq. (9)-(10)."""
+
+    delta: jax.Array = cparam("1", 0.3, 6.0)
+    id: ClassVar[str] = "stribeck_shape"
+    explanation: ClassVar[str] = (
+        "The fall from static to Coulomb friction has a different shape than the paper's Gaussian "
+        "(exponent 2 in eq. 9-10): g(v) = Fc + (Fs - Fc)*exp(-|v/vs|^delta). delta < 2 is a sharper "
+        "initial drop with a longer tail, delta > 2 a flatter plateau then a steeper fall.")
+
+    def prepare(self, terms, kin):
+        return eqx.tree_at(lambda x: x.friction.delta, terms, self.delta)
+
+    def extra_torque(self, kin, F, inertial):
+        return _zeros(kin)
+
+    def initial_guesses(self, ctx):
+        return [StribeckShape(d) for d in (1.0, 1.5, 3.0)]
+
+    def applicable(self, ctx):
+        return isinstance(ctx["baseline"].friction, (LuGre, Stribeck))
+
+    def describe(self, ctx):
+        return {"delta": float(self.delta)}
+
+
+def play_operator(theta, width):
+    """Load-side angle behind a dead band of total ``width`` (play/backlash operator)."""
+    half = 0.5 * width
+
+    def step(tl, th):
+        tn = jnp.clip(tl, th - half, th + half)
+        return tn, tn
+
+    _, tl = jax.lax.scan(step, theta[0], theta[1:])
+    return jnp.concatenate([theta[:1], tl])
+
+
+class Backlash(AbstractCandidate):
+    """Dead band at reversals: the load (and its friction) disengages while the gap is crossed."""
+
+    width: jax.Array = cparam("P", 1e-7, 0.02, log=True)
+    id: ClassVar[str] = "backlash"
+    explanation: ClassVar[str] = (
+        "Backlash (dead band) in the transmission: after every reversal the motor turns through a gap "
+        "of the given width before it re-engages the load, and during that travel the load's friction "
+        "is not felt at the actuator. Seen as a friction drop for a short time after each reversal.")
+
+    def prepare(self, terms, kin):
+        tl = play_operator(kin.theta, self.width)
+        dm = jnp.diff(kin.theta)
+        dl = jnp.diff(tl)
+        small = jnp.abs(dm) < 1e-12
+        frac = jnp.where(small, 1.0, jnp.clip(dl / jnp.where(small, 1.0, dm), 0.0, 1.0))
+        frac = jnp.concatenate([frac[:1], frac])
+        return Terms(terms.friction, terms.v_friction * frac, terms.friction_gain * frac)
+
+    def extra_torque(self, kin, F, inertial):
+        return _zeros(kin)
+
+    def initial_guesses(self, ctx):
+        P = ctx["scales"]["P"]
+        return [Backlash(w * P) for w in (1e-6, 1e-5, 1e-4, 1e-3)]
+
+    def applicable(self, ctx):
+        return ctx["n_reversals"] >= 4
+
+    def describe(self, ctx):
+        return {"width": float(self.width), "units": {"width": ctx["units"]["position"]}}
+
+
+def _compliance_response(a, h, fn, zeta):
+    """e'' of the load-minus-motor angle e for a load on a spring (natural freq fn [Hz], damping zeta)
+    driven by the motor acceleration a (held over each sample: exact zero-order-hold discretisation)."""
+    w = TWO_PI * fn
+    A = jnp.array([[0.0, 1.0], [-w * w, -2 * zeta * w]])
+    B = jnp.array([0.0, -1.0])
+    Ad = jsl.expm(A * h)
+    Bd = jnp.linalg.solve(A, (Ad - jnp.eye(2)) @ B)
+
+    def step(x, ak):
+        return Ad @ x + Bd * ak, x
+
+    _, xs = jax.lax.scan(step, jnp.zeros(2), a)
+    return -w * w * xs[:, 0] - 2 * zeta * w * xs[:, 1] - a
+
+
+class Compliance(AbstractCandidate):
+    """Elastic joint (two-mass): a load inertia J_load on a spring of natural frequency fn."""
+
+    fn: jax.Array = cparam("fs", 1e-3, 0.4, log=True)
+    zeta: jax.Array = cparam("1", 0.005, 1.0, log=True)
+    J_load: jax.Array = cparam("T/A", 0.0, 5.0)
+    id: ClassVar[str] = "compliance"
+    explanation: ClassVar[str] = (
+        "The transmission is elastic: part of the inertia (J_load) sits behind a spring, so it lags the "
+        "motor and rings at the natural frequency fn (damping ratio zeta) after every change of "
+        "acceleration. The actuator feels J_load times the load's acceleration, not the motor's.")
+
+    def prepare(self, terms, kin):
+        return terms
+
+    def extra_torque(self, kin, F, inertial):
+        h = jnp.mean(kin.h)
+        return self.J_load * _compliance_response(kin.a, h, self.fn, self.zeta)
+
+    def initial_guesses(self, ctx):
+        fs = ctx["scales"]["fs"]
+        fns = [f for f in (0.5, 1.0, 2.0, 5.0, 10.0, 20.0) if f < 0.35 * fs]
+        if ctx.get("time_peak_hz"):
+            fns = [ctx["time_peak_hz"]] + fns
+        J0 = 0.05 * ctx["scales"]["T/A"]
+        return [Compliance(f, 0.1, J0) for f in fns]
+
+    def applicable(self, ctx):
+        return True
+
+    def describe(self, ctx):
+        u = ctx["units"]
+        return {"fn_hz": float(self.fn), "zeta": float(self.zeta), "J_load": float(self.J_load),
+                "units": {"J_load": f"{u['torque']}*s^2/{u['position']}"}}
+
+
+class LoadDependent(AbstractCandidate):
+    """Friction growing with the transmitted torque: F_extra = mu*|J*a|*sign(v)."""
+
+    mu: jax.Array = cparam("1", 0.0, 2.0)
+    v_eps: jax.Array = eqx.field(converter=jnp.asarray, default=1e-3)
+    id: ClassVar[str] = "load_dependent"
+    explanation: ClassVar[str] = (
+        "Friction grows with the torque the transmission carries (gear/screw contact normal force "
+        "rises with load): an extra friction mu*|tau_transmitted|*sign(v), with the transmitted torque "
+        "here the inertial torque J*a (the paper's joint has no other load once gravity is compensated).")
+
+    def prepare(self, terms, kin):
+        return terms
+
+    def extra_torque(self, kin, F, inertial):
+        return self.mu * jnp.abs(inertial) * jnp.tanh(kin.v / self.v_eps)
+
+    def initial_guesses(self, ctx):
+        v_eps = 0.01 * ctx["scales"]["V"]
+        x = np.abs(ctx["inertial_torque"]) * np.tanh(np.asarray(ctx["rec"].velocity) / v_eps)
+        mu = float(np.dot(x, ctx["residual"]) / max(np.dot(x, x), 1e-300))
+        return [LoadDependent(max(mu, 1e-4), v_eps)]
+
+    def applicable(self, ctx):
+        return True
+
+    def describe(self, ctx):
+        return {"mu": float(self.mu)}
+
+
+CANDIDATES: dict[str, type[AbstractCandidate]] = {
+    c.id: c for c in (PositionRipple, Gravity, Asymmetry, ThermalDrift, StribeckShape, Backlash,
+                      Compliance, LoadDependent)
+}

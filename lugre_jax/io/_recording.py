@@ -1,0 +1,213 @@
+"""Joint recordings: a ``Recording`` container, a strict CSV loader and kinematics derivation.
+
+A recording is what the diagnose tool is given: time, joint position, joint velocity and the actuator
+torque at the joint, with optional reference/current/voltage columns. Units are carried in a
+``units`` dict per recording, because two sources are in use: CSV recordings in the paper's units
+(s, deg, deg/s, N*m; Li et al., Electronics 2020, 9, 284) and the EMPS benchmark in SI units
+(s, m, m/s, N), see :mod:`lugre_jax.io._emps`. The friction models are unit-agnostic (every
+parameter simply takes the units implied by the data); the units dict says which.
+
+CSV format (header line required, comma separated, one sample per line)::
+
+    time_s,position_deg,velocity_deg_s,torque_nm[,velocity_ref_deg_s,position_ref_deg,current_a,voltage_v]
+
+Malformed input (missing column, non-numeric or NaN cell, non-increasing time) raises ``ValueError``
+naming the file, the line (1-based, header = line 1), the column and what was expected.
+
+Acceleration is not a column: it is derived as the benchmark of Janot et al. (EMPS, 2019) does, by a
+zero-phase 4th-order Butterworth low-pass followed by central differences (:func:`derive_kinematics`).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import equinox as eqx
+import numpy as np
+
+REQUIRED_COLUMNS = ("time_s", "position_deg", "velocity_deg_s", "torque_nm")
+OPTIONAL_COLUMNS = ("velocity_ref_deg_s", "position_ref_deg", "current_a", "voltage_v")
+PAPER_UNITS = {
+    "time": "s",
+    "position": "deg",
+    "velocity": "deg/s",
+    "acceleration": "deg/s^2",
+    "torque": "N*m",
+}
+
+
+class Recording(eqx.Module):
+    """One recording of a joint, as numpy float64 arrays of equal length ``n``.
+
+    ``time`` [units['time']], ``position`` [units['position']], ``velocity`` [units['velocity']],
+    ``acceleration`` [units['acceleration']] (derived, see :func:`derive_kinematics`), ``torque``
+    (actuator torque/force at the joint) [units['torque']]; ``extra`` holds optional columns by name.
+    """
+
+    time: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    torque: np.ndarray
+    units: dict = eqx.field(static=True)
+    source: str = eqx.field(static=True, default="<memory>")
+    extra: dict = eqx.field(default_factory=dict)
+    meta: dict = eqx.field(static=True, default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return int(self.time.shape[0])
+
+    @property
+    def dt(self) -> float:
+        """Median sample interval [units['time']]."""
+        return float(np.median(np.diff(self.time)))
+
+    @property
+    def rotary(self) -> bool:
+        """True when position is an angle (deg or rad)."""
+        return self.units.get("position") in ("deg", "rad")
+
+    def subset(self, idx) -> "Recording":
+        """Samples ``idx`` (a slice or index array) of every column."""
+        return Recording(
+            self.time[idx], self.position[idx], self.velocity[idx], self.acceleration[idx],
+            self.torque[idx], self.units, self.source, {k: v[idx] for k, v in self.extra.items()},
+            self.meta,
+        )
+
+
+def lowpass_zero_phase(x: np.ndarray, dt: float, cutoff_hz: float, order: int = 4) -> np.ndarray:
+    """Zero-phase Butterworth low-pass (``scipy.signal.filtfilt``), as the EMPS benchmark scripts do."""
+    from scipy import signal
+
+    nyq = 0.5 / dt
+    if cutoff_hz >= nyq:
+        return np.asarray(x, dtype=np.float64)
+    b, a = signal.butter(order, cutoff_hz / nyq)
+    return signal.filtfilt(b, a, x)
+
+
+def central_difference(x: np.ndarray, dt: float) -> np.ndarray:
+    """dx/dt by central differences, one-sided at the two ends."""
+    return np.gradient(np.asarray(x, dtype=np.float64), dt)
+
+
+def derive_kinematics(
+    time: np.ndarray, velocity: np.ndarray, cutoff_hz: float | None = None
+) -> np.ndarray:
+    """Acceleration from measured velocity: zero-phase low-pass then central differences.
+
+    ``cutoff_hz`` defaults to a tenth of the sampling rate (the EMPS benchmark uses 100 Hz at 1 kHz).
+    """
+    dt = float(np.median(np.diff(time)))
+    if cutoff_hz is None:
+        cutoff_hz = 0.1 / dt
+    return central_difference(lowpass_zero_phase(velocity, dt, cutoff_hz), dt)
+
+
+def recording_from_arrays(
+    time, position, velocity, torque, *, units: dict | None = None, source: str = "<memory>",
+    acceleration=None, cutoff_hz: float | None = None, extra: dict | None = None,
+    meta: dict | None = None,
+) -> Recording:
+    """Build a :class:`Recording` from arrays (paper units unless ``units`` says otherwise)."""
+    cols = {k: np.asarray(v, dtype=np.float64) for k, v in
+            dict(time=time, position=position, velocity=velocity, torque=torque).items()}
+    n = cols["time"].shape[0]
+    for k, v in cols.items():
+        if v.shape != (n,):
+            raise ValueError(f"{source}: column {k!r} has shape {v.shape}, expected ({n},)")
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            raise ValueError(f"{source}: column {k!r} sample {bad[0]} is {v[bad[0]]}; expected a finite number")
+    if n < 10:
+        raise ValueError(f"{source}: {n} samples; a recording needs at least 10")
+    d = np.diff(cols["time"])
+    bad = np.flatnonzero(d <= 0)
+    if bad.size:
+        raise ValueError(f"{source}: time is not strictly increasing at sample {bad[0] + 1}")
+    if acceleration is None:
+        acceleration = derive_kinematics(cols["time"], cols["velocity"], cutoff_hz)
+    return Recording(
+        cols["time"], cols["position"], cols["velocity"], np.asarray(acceleration, np.float64),
+        cols["torque"], dict(PAPER_UNITS if units is None else units), source,
+        {k: np.asarray(v, np.float64) for k, v in (extra or {}).items()}, dict(meta or {}),
+    )
+
+
+def load_recording(path: str | os.PathLike, cutoff_hz: float | None = None) -> Recording:
+    """Load a CSV recording (paper units, see the module docstring), validating every cell.
+
+    Raises ``ValueError`` naming file, line and column for: a missing required column, an empty or
+    non-numeric cell, NaN/inf, a short row, or time that does not strictly increase.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise ValueError(f"{path}: no such recording file")
+    with open(path, newline="") as fh:
+        reader = csv.reader(fh)
+        try:
+            header = next(reader)
+        except StopIteration:
+            raise ValueError(f"{path}: line 1: empty file; expected a header line "
+                             f"'{','.join(REQUIRED_COLUMNS)}'") from None
+        header = [h.strip() for h in header]
+        missing = [c for c in REQUIRED_COLUMNS if c not in header]
+        if missing:
+            raise ValueError(
+                f"{path}: line 1: missing column(s) {missing}; expected a header with "
+                f"{list(REQUIRED_COLUMNS)} (optional {list(OPTIONAL_COLUMNS)}), got {header}"
+            )
+        wanted = [c for c in REQUIRED_COLUMNS + OPTIONAL_COLUMNS if c in header]
+        idx = {c: header.index(c) for c in wanted}
+        data: dict[str, list[float]] = {c: [] for c in wanted}
+        last_t = -math.inf
+        for lineno, row in enumerate(reader, start=2):
+            if not row or all(not cell.strip() for cell in row):
+                continue
+            for c in wanted:
+                j = idx[c]
+                if j >= len(row):
+                    raise ValueError(f"{path}: line {lineno}: column {c!r} is missing "
+                                     f"(row has {len(row)} cells, header has {len(header)})")
+                cell = row[j].strip()
+                try:
+                    x = float(cell)
+                except ValueError:
+                    raise ValueError(f"{path}: line {lineno}: column {c!r}: {cell!r} is not a number; "
+                                     f"expected a finite decimal value") from None
+                if not math.isfinite(x):
+                    raise ValueError(f"{path}: line {lineno}: column {c!r}: {cell!r}; "
+                                     f"expected a finite number (no NaN/inf)")
+                data[c].append(x)
+            t = data["time_s"][-1]
+            if not t > last_t:
+                raise ValueError(f"{path}: line {lineno}: column 'time_s': {t!r} does not increase "
+                                 f"(previous {last_t!r}); expected strictly increasing time")
+            last_t = t
+    if len(data["time_s"]) < 10:
+        raise ValueError(f"{path}: {len(data['time_s'])} data rows; a recording needs at least 10")
+    extra = {c: np.asarray(data[c]) for c in OPTIONAL_COLUMNS if c in data}
+    return recording_from_arrays(
+        data["time_s"], data["position_deg"], data["velocity_deg_s"], data["torque_nm"],
+        source=str(path), cutoff_hz=cutoff_hz, extra=extra,
+    )
+
+
+def write_recording(path: str | os.PathLike, rec: Recording) -> None:
+    """Write a recording in paper units as the CSV :func:`load_recording` reads (atomically)."""
+    from ._atomic import write_csv
+
+    if rec.units.get("position") != "deg":
+        raise ValueError(f"write_recording writes paper units (deg); this recording is in {rec.units}")
+    cols: dict[str, Any] = {
+        "time_s": rec.time, "position_deg": rec.position, "velocity_deg_s": rec.velocity,
+        "torque_nm": rec.torque,
+    }
+    cols.update({k: v for k, v in rec.extra.items() if k in OPTIONAL_COLUMNS})
+    write_csv(path, cols, fmt="%.12g")
