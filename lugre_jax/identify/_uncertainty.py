@@ -41,13 +41,21 @@ def fisher_information(residual_fn: Callable, x: Float[Array, " p"]) -> np.ndarr
 
 
 def _inverse(info: np.ndarray) -> tuple[np.ndarray, float]:
-    """Pseudo-inverse and condition number of a symmetric information matrix, scaled to unit
-    diagonal first so that parameters of very different magnitude do not fake ill-conditioning."""
+    """Inverse and condition number of a symmetric information matrix, scaled to unit diagonal first
+    so that parameters of very different magnitude do not fake ill-conditioning. Directions the data
+    do not inform (eigenvalues below 1e-12 of the largest) get infinite variance, never zero."""
     d = np.sqrt(np.clip(np.diag(info), 1e-300, None))
     scaled = info / np.outer(d, d)
-    w = np.linalg.eigvalsh(scaled)
+    w, U = np.linalg.eigh(scaled)
     cond = float(w[-1] / w[0]) if w[0] > 0 else float("inf")
-    inv = np.linalg.pinv(scaled, rcond=1e-13, hermitian=True) / np.outer(d, d)
+    keep = w > 1e-12 * w[-1]
+    inv = (U[:, keep] / w[keep]) @ U[:, keep].T / np.outer(d, d)
+    null_weight = np.sum(U[:, ~keep] ** 2, axis=1)
+    lost = null_weight > 1e-6
+    if lost.any():
+        inv = inv.copy()
+        inv[lost, :] = np.inf
+        inv[:, lost] = np.inf
     return inv, cond
 
 
@@ -134,7 +142,8 @@ def standard_errors(
     if dof <= 0:
         se = np.full_like(se, np.nan)
     d = np.sqrt(np.clip(np.diag(cov), 1e-300, None))
-    corr = cov / np.outer(d, d)
+    with np.errstate(invalid="ignore"):
+        corr = np.where(np.isfinite(np.outer(d, d)), cov / np.outer(d, d), np.nan)
     at_bound = None
     if bounds is not None:
         lo, hi = (np.asarray(b, dtype=np.float64) for b in bounds)
