@@ -252,6 +252,12 @@ def detect_boundaries(data: StribeckData, *, n_grid: int = 20001) -> Boundaries:
     s = spl(g)
     i = int(np.argmin(s))
     v_min = float(g[i])
+    if v_min <= main.velocity[1]:
+        raise ValueError(
+            f"{data.source}: no Stribeck dip: the smoothed torque is lowest at {v_min:.4g} deg/s, at the slowest "
+            "set-points, so there is no minimum-torque velocity to split at; use --scheme whole, or give "
+            "--edges VMIN,VCRIT explicitly"
+        )
     w = 1.0 / main.torque_se**2 if main.has_weights else np.ones(len(main))
     v_crit = _hinge_break(main.velocity, main.torque, w, v_min)
     return Boundaries(v_min, float(s[i]), v_crit, spl)
@@ -463,14 +469,14 @@ def identify_piecewise(
     if target not in ("data", "sines"):
         raise ValueError(f"target must be 'data' or 'sines', got {target!r}")
     d = _main_branch(data)
-    det = detect_boundaries(data)
     if edges is not None:
         v_min, v_crit = (float(e) for e in edges)
         if not 0 < v_min < v_crit:
             raise ValueError(f"edges must satisfy 0 < v_min < v_crit, got {edges}")
-        bnd = Boundaries(v_min, float(det.spline(v_min)), v_crit, det.spline, detected=False)
+        spl = fit_smoothing_spline(d.velocity, d.torque, d.torque_se if d.has_weights else None)
+        bnd = Boundaries(v_min, float(spl(v_min)), v_crit, spl, detected=False)
     else:
-        bnd = det
+        bnd = detect_boundaries(data)
     spl = bnd.spline
     keys = jax.random.split(key, 4)
     segs_data = {
@@ -479,6 +485,13 @@ def identify_piecewise(
         "3": d.select(d.velocity >= bnd.v_crit),
     }
     ranges = {"1": (0.0, bnd.v_min), "2": (bnd.v_min, bnd.v_crit), "3": (bnd.v_crit, float(d.velocity[-1]))}
+    for k, sd in segs_data.items():
+        need = 2 if k == "3" else 4
+        if len(sd) < need:
+            raise ValueError(
+                f"segment {k} ({ranges[k][0]:.4g}-{ranges[k][1]:.4g} deg/s) holds {len(sd)} set-point(s), fewer than its "
+                f"{need} parameters; move the boundaries (--edges VMIN,VCRIT) or use --scheme whole"
+            )
     sines = {}
     for k, sd in segs_data.items():
         lo_v = max(ranges[k][0], float(d.velocity[0]))
