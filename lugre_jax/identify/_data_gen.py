@@ -7,8 +7,9 @@ accelerating and while decelerating, the static friction being much higher when 
 stopping, the two curves meeting tangentially at the velocity of minimum torque.
 
 We draw the accelerating branch from the paper's own identified model (Table 1, three segments:
-:func:`lugre_jax.plant.paper_friction`) and the decelerating branch as that curve minus a quadratic
-that vanishes with zero slope at the minimum-torque velocity (tangent there, as the paper requires),
+:func:`lugre_jax.plant.paper_friction`) and the decelerating branch as that curve minus a
+Stribeck-shaped dip that vanishes with zero slope at the minimum-torque velocity (tangent there, as
+the paper requires),
 then add white Gaussian noise per sample.
 
 Units: velocity deg/s, torque N*m.
@@ -28,6 +29,7 @@ PAPER_LIKE_SEED = 284  # the paper's article number; any fixed value would do
 PAPER_LIKE_NOISE_SD = 0.08  # N*m per sample
 PAPER_LIKE_REPEATS = 30  # samples per set-point (section 4.2.2)
 DECEL_STATIC_DROP = 3.0  # N*m: static friction when stopping = when starting minus this
+DECEL_VS = 0.0315  # deg/s: width of the decelerating branch's dip (Table 1, segment 1 vs)
 
 
 def minimum_torque_velocity(model: AbstractFrictionModel, v_max: float = 1.5, n: int = 150001) -> tuple[float, float]:
@@ -47,11 +49,16 @@ def paper_like_velocities(v_min: float) -> tuple[np.ndarray, np.ndarray]:
     return np.round(accel, 6), np.round(decel, 6)
 
 
-def decel_branch(model: AbstractFrictionModel, v, v_min: float, drop: float = DECEL_STATIC_DROP):
-    """Decelerating-branch torque [N*m]: ``model`` minus ``drop*(1 - v/v_min)**2`` below ``v_min``,
-    equal in value and slope to the accelerating branch at ``v_min`` (tangent, section 4.2.2)."""
+def decel_branch(model: AbstractFrictionModel, v, v_min: float, drop: float = DECEL_STATIC_DROP, vs: float = DECEL_VS):
+    """Decelerating-branch torque [N*m]: ``model`` minus a Stribeck-shaped dip
+    ``drop*exp(-(v/vs)**2)`` below ``v_min``, with the dip's value and slope at ``v_min`` subtracted
+    so that the branch equals the accelerating one in value and slope there (tangent, section 4.2.2).
+    The static friction when stopping is ``drop`` lower than when starting."""
     v = jnp.asarray(v)
-    dip = drop * jnp.clip(1.0 - v / v_min, 0.0, None) ** 2
+    e = lambda u: drop * jnp.exp(-((u / vs) ** 2))  # noqa: E731
+    e_m = e(v_min)
+    de_m = -2.0 * v_min / vs**2 * e_m
+    dip = jnp.where(v < v_min, e(v) - e_m - de_m * (v - v_min), 0.0)
     return model.steady_state(v) - dip
 
 
