@@ -60,6 +60,11 @@ class OptimResult:
     settings: dict[str, Any]
 
     @property
+    def evaluations(self) -> np.ndarray:
+        """Alias of ``n_evals`` (total loss evaluations per seed)."""
+        return self.n_evals
+
+    @property
     def best(self) -> tuple[np.ndarray, float]:
         """Best point over all seeds and its loss."""
         i = int(np.argmin(self.loss))

@@ -1,0 +1,59 @@
+"""Draw Fig. 5-style convergence curves from run.py's results (best-so-far J vs iteration and vs evaluations).
+
+    /work/venv/bin/python experiments/fig05_convergence/plot.py [--results DIR]
+
+Writes DIR/fig05_convergence.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from lugre_jax.io._atomic import save_figure  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--results", default=str(HERE / "results"))
+    a = ap.parse_args(argv)
+    path = Path(a.results) / "convergence.json"
+    if not path.exists():
+        raise SystemExit(f"{path} not found: run experiments/fig05_convergence/run.py first")
+    d = json.loads(path.read_text())
+    j_ref = d["problem"]["reference_J"]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for (label, m), c in zip(d["methods"].items(), ["C0", "C3", "C2"]):
+        med, lo, hi = (np.asarray(m[k], float) - j_ref for k in ("median_history", "p10_history", "p90_history"))
+        it = np.arange(len(med))
+        ev = np.asarray(m["evals_history"], float)
+        for ax, xs in zip(axes, (it, ev)):
+            ax.plot(xs, med, color=c, label=label)
+            ax.fill_between(xs, lo, hi, color=c, alpha=0.2, lw=0)
+    for ax, xl in zip(axes, ("iteration", "loss evaluations")):
+        ax.set_yscale("log")
+        ax.axhline(0.01 * j_ref, color="k", ls=":", lw=1, label="1% of $J_{ref}$")
+        ax.set_xlabel(xl)
+        ax.set_ylabel("best-so-far $J - J_{ref}$ [N$^2$m$^2$]")
+        ax.grid(alpha=0.3)
+    axes[1].set_xscale("log")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Segment (1) static identification, {d['seeds']} seeds: median and 10-90% band "
+                 f"($J_{{ref}}$ = {j_ref:.4g})", fontsize=10)
+    out = Path(a.results) / "fig05_convergence.png"
+    save_figure(fig, out)
+    print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,53 @@
+"""Bar chart of the PSO speed study: jax (batched seeds) vs pyswarms vs the exp floor.
+
+    /work/venv/bin/python experiments/pso_speed/plot.py [--results DIR]
+
+Writes DIR/pso_speed.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from lugre_jax.io._atomic import save_figure  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--results", default=str(HERE / "results"))
+    a = ap.parse_args(argv)
+    path = Path(a.results) / "pso_speed.json"
+    if not path.exists():
+        raise SystemExit(f"{path} not found: run experiments/pso_speed/run.py first")
+    d = json.loads(path.read_text())
+    n = d["exps_per_pso_run"]
+    vals = {
+        "pyswarms (loop over seeds)": d["pyswarms"]["per_seed_ms"],
+        "lugre_jax PSO (vmapped seeds)": d["jax_pso"]["per_seed_ms"],
+        f"exp floor ({n} exps)": 1e3 * d["floor_time_all_seeds_s"] / d["seeds"],
+    }
+    fig, ax = plt.subplots(figsize=(7, 2.6))
+    ax.barh(list(vals), list(vals.values()), color=["C7", "C0", "C2"])
+    ax.set_xscale("log")
+    ax.set_xlabel("time per seed [ms] (100 particles x 100 iterations, 92-point Stribeck loss)")
+    ax.invert_yaxis()
+    for i, v in enumerate(vals.values()):
+        ax.text(v, i, f" {v:.2f}", va="center", fontsize=8)
+    ax.set_title(f"speed-up {d['speedup_per_seed']:.1f}x; {d['ours_over_floor']:.1f}x the exp floor", fontsize=10)
+    out = Path(a.results) / "pso_speed.png"
+    save_figure(fig, out)
+    print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
