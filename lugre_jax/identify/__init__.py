@@ -29,6 +29,7 @@ from ._schemes import (
     Boundaries as Boundaries,
     Identification as Identification,
     SegmentFit as SegmentFit,
+    Smoothed as Smoothed,
     auto_bounds as auto_bounds,
     check_bounds_fit as check_bounds_fit,
     detect_boundaries as detect_boundaries,
@@ -36,6 +37,7 @@ from ._schemes import (
     identify_piecewise as identify_piecewise,
     identify_whole as identify_whole,
     make_objective as make_objective,
+    smooth_segments as smooth_segments,
 )
 from ._smoothing import (
     SmoothingSpline as SmoothingSpline,

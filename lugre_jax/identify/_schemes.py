@@ -247,8 +247,8 @@ def detect_boundaries(data: StribeckData, *, n_grid: int = 20001) -> Boundaries:
     main = data.select((data.branch == "accel") & (data.velocity > 0)).sorted()
     if len(main) < 5:
         raise ValueError(f"{data.source}: need at least 5 accelerating-branch set-points at positive velocity, got {len(main)}")
-    spl = fit_smoothing_spline(main.velocity, main.torque, main.torque_se if main.has_weights else None)
-    g = np.linspace(main.velocity[0], main.velocity[-1], n_grid)
+    spl = fit_smoothing_spline(main.velocity, main.torque, main.torque_se if main.has_weights else None, log_x=True)
+    g = np.geomspace(main.velocity[0], main.velocity[-1], n_grid)
     s = spl(g)
     i = int(np.argmin(s))
     v_min = float(g[i])
@@ -459,6 +459,66 @@ def identify_whole(
     return Identification("whole", method, "data", (seg,), None, {}, None, data, {})
 
 
+@dataclasses.dataclass(frozen=True)
+class Smoothed:
+    """Section 4.2.2 pre-processing: boundaries, per-segment data, the spline, the decelerating
+    branch tangent at ``v_min`` and the eq. (12) sum-of-sines curve of each segment (Fig. 4)."""
+
+    boundaries: Boundaries
+    segments: dict  # name -> StribeckData ("1", "2", "3", and "1 decel" when present)
+    ranges: dict  # name -> (v_lo, v_hi) deg/s
+    splines: dict  # name -> SmoothingSpline (accelerating-branch segments)
+    sines: dict  # name -> SumOfSines
+    decel_curve: TangentBranch | None
+
+
+def smooth_segments(data: StribeckData, edges: tuple[float, float] | None = None) -> Smoothed:
+    """Split the data at detected (or given ``edges``) boundaries and smooth each segment (deg/s, N*m)."""
+    d = _main_branch(data)
+    if edges is not None:
+        v_min, v_crit = (float(e) for e in edges)
+        if not 0 < v_min < v_crit:
+            raise ValueError(f"edges must satisfy 0 < v_min < v_crit, got {edges}")
+        spl = fit_smoothing_spline(d.velocity, d.torque, d.torque_se if d.has_weights else None, log_x=True)
+        bnd = Boundaries(v_min, float(spl(v_min)), v_crit, spl, detected=False)
+    else:
+        bnd = detect_boundaries(data)
+    segs = {
+        "1": d.select(d.velocity < bnd.v_min),
+        "2": d.select((d.velocity >= bnd.v_min) & (d.velocity < bnd.v_crit)),
+        "3": d.select(d.velocity >= bnd.v_crit),
+    }
+    ranges = {"1": (0.0, bnd.v_min), "2": (bnd.v_min, bnd.v_crit), "3": (bnd.v_crit, float(d.velocity[-1]))}
+    for k, sd in segs.items():
+        need = 2 if k == "3" else 4
+        if len(sd) < need:
+            raise ValueError(
+                f"segment {k} ({ranges[k][0]:.4g}-{ranges[k][1]:.4g} deg/s) holds {len(sd)} set-point(s), fewer than its "
+                f"{need} parameters; move the boundaries (--edges VMIN,VCRIT) or use --scheme whole"
+            )
+    # Per-segment splines, each pinned to the overall spline at its boundaries (continuity); a segment
+    # too short for its own spline uses the overall one.
+    t_min, t_crit = float(bnd.spline(bnd.v_min)), float(bnd.spline(bnd.v_crit))
+    pins = {"1": [(bnd.v_min, t_min)], "2": [(bnd.v_min, t_min), (bnd.v_crit, t_crit)], "3": [(bnd.v_crit, t_crit)]}
+    splines = {}
+    for k, sd in segs.items():
+        try:
+            splines[k] = fit_smoothing_spline(sd.velocity, sd.torque, sd.torque_se if sd.has_weights else None,
+                                              log_x=(k == "1"), pins=pins[k])
+        except ValueError:
+            splines[k] = bnd.spline
+    sines = {k: fit_sum_of_sines(splines[k], max(ranges[k][0], float(d.velocity[0])), ranges[k][1]) for k in segs}
+    decel = data.select((data.branch == "decel") & (data.velocity > 0) & (data.velocity < bnd.v_min)).sorted()
+    decel_curve = None
+    if len(decel) >= 4:
+        decel_curve = fit_tangent_branch(splines["1"], decel.velocity, decel.torque, bnd.v_min,
+                                         decel.torque_se if decel.has_weights else None)
+        sines["1 decel"] = fit_sum_of_sines(decel_curve, float(decel.velocity[0]), bnd.v_min)
+        segs["1 decel"] = decel
+        ranges["1 decel"] = (0.0, bnd.v_min)
+    return Smoothed(bnd, segs, ranges, splines, sines, decel_curve)
+
+
 def identify_piecewise(
     data: StribeckData, method: str = "gapso", *, key: PRNGKeyArray, n_seeds: int = 1, refine: bool = False,
     bounds: str | None = None, edges: tuple[float, float] | None = None, target: str = "data",
@@ -469,40 +529,9 @@ def identify_piecewise(
     if target not in ("data", "sines"):
         raise ValueError(f"target must be 'data' or 'sines', got {target!r}")
     d = _main_branch(data)
-    if edges is not None:
-        v_min, v_crit = (float(e) for e in edges)
-        if not 0 < v_min < v_crit:
-            raise ValueError(f"edges must satisfy 0 < v_min < v_crit, got {edges}")
-        spl = fit_smoothing_spline(d.velocity, d.torque, d.torque_se if d.has_weights else None)
-        bnd = Boundaries(v_min, float(spl(v_min)), v_crit, spl, detected=False)
-    else:
-        bnd = detect_boundaries(data)
-    spl = bnd.spline
+    sm = smooth_segments(data, edges)
+    bnd, segs_data, ranges, sines, decel_curve = sm.boundaries, sm.segments, sm.ranges, sm.sines, sm.decel_curve
     keys = jax.random.split(key, 4)
-    segs_data = {
-        "1": d.select(d.velocity < bnd.v_min),
-        "2": d.select((d.velocity >= bnd.v_min) & (d.velocity < bnd.v_crit)),
-        "3": d.select(d.velocity >= bnd.v_crit),
-    }
-    ranges = {"1": (0.0, bnd.v_min), "2": (bnd.v_min, bnd.v_crit), "3": (bnd.v_crit, float(d.velocity[-1]))}
-    for k, sd in segs_data.items():
-        need = 2 if k == "3" else 4
-        if len(sd) < need:
-            raise ValueError(
-                f"segment {k} ({ranges[k][0]:.4g}-{ranges[k][1]:.4g} deg/s) holds {len(sd)} set-point(s), fewer than its "
-                f"{need} parameters; move the boundaries (--edges VMIN,VCRIT) or use --scheme whole"
-            )
-    sines = {}
-    for k, sd in segs_data.items():
-        lo_v = max(ranges[k][0], float(d.velocity[0]))
-        sines[k] = fit_sum_of_sines(spl, lo_v, ranges[k][1])
-    decel = data.select((data.branch == "decel") & (data.velocity > 0)).sorted()
-    decel_curve = None
-    if len(decel):
-        dd = decel.select(decel.velocity < bnd.v_min)
-        if len(dd):
-            decel_curve = fit_tangent_branch(spl, dd.velocity, dd.torque, bnd.v_min, dd.torque_se if dd.has_weights else None)
-            sines["1 decel"] = fit_sum_of_sines(decel_curve, float(dd.velocity[0]), bnd.v_min)
     med_se = float(np.median(_weights(d)))
     sd_anchor = med_se / continuity_weight if continuity_weight > 0 else None
 
@@ -523,9 +552,8 @@ def identify_piecewise(
         "v_crit": float(curve("coulomb_viscous", jnp.asarray(s3.x), jnp.asarray(bnd.v_crit))) - tau_vcrit,
     }
     if decel_curve is not None:
-        dd = decel.select(decel.velocity < bnd.v_min)
-        sdec = _fit_segment("1 decel", "stribeck", "decel", dd, (0.0, bnd.v_min), key=keys[3],
-                            target_fn=None if target == "data" else sines["1 decel"],
+        sdec = _fit_segment("1 decel", "stribeck", "decel", segs_data["1 decel"], ranges["1 decel"], key=keys[3],
+                            target_fn=tf("1 decel"),
                             anchor=None if sd_anchor is None else (bnd.v_min, tau_vmin, sd_anchor), **common)
         segments.append(sdec)
         jumps["v_min_decel"] = float(curve("stribeck", jnp.asarray(sdec.x), jnp.asarray(bnd.v_min))) - tau_vmin

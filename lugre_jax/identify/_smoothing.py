@@ -7,7 +7,11 @@ Choices, and why:
 
 * The spline is scipy's penalised cubic smoothing spline (``make_smoothing_spline``) with the
   penalty chosen by generalised cross-validation and weights ``1/se**2``: averaged data still carry
-  noise, and an interpolating spline would follow it.
+  noise, and an interpolating spline would follow it. For locating the minimum over the whole range
+  it is fitted in ``log(v)`` (one smoothing level cannot suit both the steep Stribeck drop and the
+  gentle viscous rise in linear ``v``); per segment it is fitted in ``v`` (``log v`` for segment 1)
+  with the neighbouring segment's boundary value pinned, for continuity (the paper fits each segment
+  "based on the end parameters of the upper segment").
 * The decelerating branch of the low-velocity segment must be tangent to the accelerating one at the
   minimum-torque velocity (equal value and slope). We fit it as the accelerating spline plus a
   polynomial in ``(v_min - v)`` starting at power 2, which meets both conditions exactly.
@@ -28,42 +32,61 @@ from scipy import interpolate, optimize
 
 @dataclasses.dataclass(frozen=True)
 class SmoothingSpline:
-    """A smoothing spline ``torque(v)`` [N*m] of velocity [deg/s] on ``[v_lo, v_hi]``."""
+    """A smoothing spline ``torque(v)`` [N*m] of velocity [deg/s] on ``[v_lo, v_hi]``; with
+    ``log_x`` the spline lives in ``log(v)`` (see :func:`fit_smoothing_spline`)."""
 
     spline: interpolate.BSpline
     v_lo: float
     v_hi: float
     lam: float
+    log_x: bool = False
+
+    def _x(self, v):
+        v = np.asarray(v, dtype=np.float64)
+        return np.log(np.maximum(v, 1e-300)) if self.log_x else v
 
     def __call__(self, v):
-        return self.spline(np.asarray(v, dtype=np.float64))
+        return self.spline(self._x(v))
 
     def derivative(self, v, nu: int = 1):
-        return self.spline.derivative(nu)(np.asarray(v, dtype=np.float64))
+        if nu != 1 and self.log_x:
+            raise ValueError("only the first derivative is available for a log-velocity spline")
+        d = self.spline.derivative(nu)(self._x(v))
+        return d / np.asarray(v, dtype=np.float64) if self.log_x else d
 
 
-def fit_smoothing_spline(velocity, torque, se=None, lam: float | None = None) -> SmoothingSpline:
+def fit_smoothing_spline(velocity, torque, se=None, lam: float | None = None, *, log_x: bool = False,
+                         pins=()) -> SmoothingSpline:
     """Penalised cubic smoothing spline of averaged torques [N*m] against velocity [deg/s].
 
     ``se`` (standard errors) become weights ``1/se**2`` (normalised); ``lam=None`` chooses the
-    smoothing by generalised cross-validation. Needs at least 5 distinct velocities.
+    smoothing by generalised cross-validation. ``log_x=True`` fits in ``log(v)`` (v > 0): the
+    Stribeck drop at low velocity is then no steeper than the rest, so one smoothing level suits the
+    whole range. ``pins`` = ``[(v, torque), ...]`` are extra points with 1e4 times the largest weight
+    (continuity with a neighbouring segment). Needs at least 5 distinct velocities.
     """
     v = np.asarray(velocity, dtype=np.float64)
     t = np.asarray(torque, dtype=np.float64)
+    if se is not None:
+        s = np.asarray(se, dtype=np.float64)
+        w = 1.0 / s**2 if (np.all(np.isfinite(s)) and np.all(s > 0)) else np.ones_like(v)
+    else:
+        w = np.ones_like(v)
+    w = w / w.mean()
+    for vp, tp in pins:
+        keep = np.abs(v - vp) > 1e-12 * max(1.0, abs(vp))
+        v, t, w = np.append(v[keep], vp), np.append(t[keep], tp), np.append(w[keep], 1e4 * w.max())
     order = np.argsort(v)
-    v, t = v[order], t[order]
+    v, t, w = v[order], t[order], w[order]
     if np.unique(v).size != v.size:
         raise ValueError("fit_smoothing_spline: velocities must be distinct (average repeated set-points first)")
     if v.size < 5:
         raise ValueError(f"fit_smoothing_spline needs at least 5 set-points, got {v.size}")
-    w = None
-    if se is not None:
-        s = np.asarray(se, dtype=np.float64)[order]
-        if np.all(np.isfinite(s)) and np.all(s > 0):
-            w = 1.0 / s**2
-            w = w / w.mean()
-    spl = interpolate.make_smoothing_spline(v, t, w=w, lam=lam)
-    return SmoothingSpline(spl, float(v[0]), float(v[-1]), float("nan") if lam is None else float(lam))
+    if log_x and v[0] <= 0:
+        raise ValueError("fit_smoothing_spline(log_x=True) needs positive velocities")
+    x = np.log(v) if log_x else v
+    spl = interpolate.make_smoothing_spline(x, t, w=w, lam=lam)
+    return SmoothingSpline(spl, float(v[0]), float(v[-1]), float("nan") if lam is None else float(lam), log_x)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,7 +110,7 @@ class TangentBranch:
         return self.base.derivative(v) - (powers * d[..., None] ** (powers - 1)) @ self.coef
 
 
-def fit_tangent_branch(base: SmoothingSpline, velocity, torque, v_t: float, se=None, degree: int = 3) -> TangentBranch:
+def fit_tangent_branch(base: SmoothingSpline, velocity, torque, v_t: float, se=None, degree: int = 5) -> TangentBranch:
     """Fit the decelerating branch tangent to ``base`` at ``v_t`` [deg/s] (weighted least squares)."""
     v = np.asarray(velocity, dtype=np.float64)
     t = np.asarray(torque, dtype=np.float64)
