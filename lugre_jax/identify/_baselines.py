@@ -24,6 +24,7 @@ from evosax.algorithms import CMA_ES as _EvoCMAES, DifferentialEvolution as _Evo
 
 from .._types import Array, Float, Int, PRNGKeyArray, Scalar
 from ._fitness import LossFn, ResidualFn, RunResult, best_of, evaluate, scan_run
+from ._optimiser import AbstractOptimiser
 
 
 class EvosaxState(eqx.Module):
@@ -36,7 +37,7 @@ class EvosaxState(eqx.Module):
     key: PRNGKeyArray
 
 
-class CMAES(eqx.Module):
+class CMAES(AbstractOptimiser):
     """CMA-ES from evosax in the unit cube of the box. ``pop_size=None`` is ``4 + 3 ln(dim)``."""
 
     pop_size: int | None = eqx.field(static=True, default=None)
@@ -75,7 +76,7 @@ class CMAES(eqx.Module):
         return scan_run(self, key, loss_fn, lower, upper, self.generations)
 
 
-class DE(eqx.Module):
+class DE(AbstractOptimiser):
     """Differential evolution from evosax: ``base="rand"`` (DE/rand/1/bin) or ``"best"`` (DE/best/1/bin)."""
 
     pop_size: int = eqx.field(static=True, default=40)

@@ -30,6 +30,7 @@ import jax.numpy as jnp
 
 from .._types import Array, Bool, Float, Int, Population, PRNGKeyArray, Scalar
 from ._fitness import LossFn, RunResult, evaluate, paper_fitness, scan_run
+from ._optimiser import AbstractOptimiser
 
 # ---------------------------------------------------------------- shared selection
 
@@ -118,7 +119,7 @@ def _state_from(genes, x, losses, key, n_evals):
     return GAState(genes, losses, x[i], losses[i], jnp.asarray(n_evals), key)
 
 
-class GA(eqx.Module):
+class GA(AbstractOptimiser):
     """The paper's binary GA (section 4.2.3): population 20, 10-bit genes, Pc 0.9, Pm 0.005, 20 generations.
 
     ``pc`` and ``pm`` are array leaves (vmappable); the rest is static.
@@ -222,7 +223,7 @@ def _polynomial_mutation(key, x, pm, eta, lower, upper):
     return jnp.clip(jnp.where(mutate, x + delta * (upper - lower), x), lower, upper)
 
 
-class RealGA(eqx.Module):
+class RealGA(AbstractOptimiser):
     """Real-coded GA: tournament selection, SBX crossover, polynomial mutation, elitism.
 
     Defaults are sized like the paper's GA (population 20, 20 generations) so the two compare at the

@@ -36,6 +36,7 @@ import jax.numpy as jnp
 
 from .._types import Array, Int, PRNGKeyArray, Scalar, Float
 from ._fitness import LossFn, RunResult, scan_run
+from ._optimiser import AbstractOptimiser
 from ._ga import GA
 from ._pso import PSO, PSOState
 
@@ -53,7 +54,7 @@ def _mirror(swarm: PSOState) -> GAPSOState:
     return GAPSOState(swarm, swarm.best_x, swarm.best_loss, swarm.n_evals)
 
 
-class GAPSO(eqx.Module):
+class GAPSO(AbstractOptimiser):
     """GA-PSO by composition: ``ga`` (paper's binary GA) and ``pso`` (paper's PSO).
 
     ``ga_generations`` GA steps per PSO iteration; ``None`` means ``ga.generations`` (the literal

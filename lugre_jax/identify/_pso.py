@@ -28,6 +28,7 @@ import jax.numpy as jnp
 
 from .._types import Array, Float, Int, Population, PRNGKeyArray, Scalar
 from ._fitness import LossFn, RunResult, best_of, evaluate, scan_run
+from ._optimiser import AbstractOptimiser
 
 
 class PSOState(eqx.Module):
@@ -57,7 +58,7 @@ def _move_one(x, v, p, g, r1, r2, w, c1, c2, vmax, lower, upper):
     return jnp.clip(x_new, lower, upper), jnp.where(outside, 0.0, v)
 
 
-class PSO(eqx.Module):
+class PSO(AbstractOptimiser):
     """Global-best PSO with the paper's settings as defaults (section 4.2.3).
 
     ``w``, ``c1``, ``c2`` and ``vmax_frac`` are array leaves: vmap over a stacked ``PSO`` to sweep
