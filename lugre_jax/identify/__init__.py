@@ -11,6 +11,7 @@ from ._fitness import (
     loss_from_residual as loss_from_residual,
     paper_fitness as paper_fitness,
 )
+from ._optimiser import AbstractOptimiser as AbstractOptimiser
 from ._ga import GA as GA, GAState as GAState, RealGA as RealGA, decode as decode, encode as encode
 from ._gapso import GAPSO as GAPSO, GAPSOState as GAPSOState
 from ._pso import PSO as PSO, PSOState as PSOState
