@@ -24,3 +24,27 @@ from .plant import (
 )
 
 __version__ = "0.1.0"
+from .control import (
+    LuGreCompensated as LuGreCompensated,
+    OpenLoop as OpenLoop,
+    OpenLoopVoltage as OpenLoopVoltage,
+    PositionPID as PositionPID,
+    PositionSine as PositionSine,
+    VelocityPID as VelocityPID,
+    VelocityRamp as VelocityRamp,
+    VelocitySteps as VelocitySteps,
+)
+from .plant import IdealTorque as IdealTorque
+from ._simulate import (
+    RESULT_NONFINITE as RESULT_NONFINITE,
+    RESULT_OK as RESULT_OK,
+    RESULT_SOLVER_FAILED as RESULT_SOLVER_FAILED,
+    STATE_NAMES as STATE_NAMES,
+    Solution as Solution,
+    System as System,
+    broadcast_system as broadcast_system,
+    simulate as simulate,
+    stack_systems as stack_systems,
+    trajectory_loss as trajectory_loss,
+    vector_field as vector_field,
+)

@@ -15,12 +15,19 @@ import jax.numpy as jnp
 import numpy as np
 
 
-def param(unit: str, lower: float = -np.inf, upper: float = np.inf, **kwargs: Any):
-    """A model field with a unit and bounds (``lower <= value <= upper``)."""
+def param(unit: str, lower: float = -np.inf, upper: float = np.inf, *, convert: bool = True,
+          **kwargs: Any):
+    """A model field with a unit and bounds (``lower <= value <= upper``).
+
+    ``convert=False`` keeps a Python number as given: jitted code then treats it as a constant
+    (used for terms that are usually off, such as gravity, so they cost nothing when zero).
+    """
     if not lower <= upper:
         raise ValueError(f"param bounds must satisfy lower <= upper, got [{lower}, {upper}]")
     metadata = dict(unit=unit, bounds=(float(lower), float(upper)))
-    return eqx.field(converter=jnp.asarray, metadata=metadata, **kwargs)
+    if convert:
+        kwargs["converter"] = jnp.asarray
+    return eqx.field(metadata=metadata, **kwargs)
 
 
 def param_fields(module: eqx.Module) -> list[dataclasses.Field]:
@@ -46,7 +53,9 @@ def bounds_of(module: eqx.Module) -> tuple[np.ndarray, np.ndarray]:
 
 def to_vector(module: eqx.Module):
     """The module's parameters stacked on the last axis (works for batched modules too)."""
-    return jnp.stack([jnp.asarray(getattr(module, n)) for n in names_of(module)], axis=-1)
+    vals = [jnp.asarray(getattr(module, n)) for n in names_of(module)]
+    shape = jnp.broadcast_shapes(*(v.shape for v in vals))
+    return jnp.stack([jnp.broadcast_to(v, shape) for v in vals], axis=-1)
 
 
 def from_vector(cls, x, **static: Any):

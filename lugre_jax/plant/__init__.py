@@ -10,4 +10,10 @@ from ._paper import (
     paper_segment as paper_segment,
     paper_table1_array as paper_table1_array,
 )
-from ._plant import DCMotor as DCMotor, Joint as Joint, MOTOR_ASSUMPTIONS as MOTOR_ASSUMPTIONS
+from ._plant import (
+    AbstractActuator as AbstractActuator,
+    DCMotor as DCMotor,
+    IdealTorque as IdealTorque,
+    Joint as Joint,
+    MOTOR_ASSUMPTIONS as MOTOR_ASSUMPTIONS,
+)

@@ -11,6 +11,8 @@ this is the paper's first-order simplification, eq. (8).
 
 from __future__ import annotations
 
+import abc
+
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
@@ -30,15 +32,36 @@ class Joint(eqx.Module):
     """
 
     J: Float[Array, "*b"] = param("N*m*s^2/deg", 1e-6, 10.0)
-    gravity_nm: Float[Array, "*b"] = param("N*m", -100.0, 100.0, default=0.0)
-    gravity_phase_deg: Float[Array, "*b"] = param("deg", -180.0, 180.0, default=0.0)
+    gravity_nm: float | Float[Array, "*b"] = param("N*m", -100.0, 100.0, default=0.0, convert=False)
+    gravity_phase_deg: float | Float[Array, "*b"] = param(
+        "deg", -180.0, 180.0, default=0.0, convert=False
+    )
 
     def gravity(self, theta):
         """Gravity torque G(theta) [N*m] for joint angle ``theta`` [deg]."""
+        if isinstance(self.gravity_nm, (int, float)) and self.gravity_nm == 0:
+            return jnp.zeros_like(theta)  # compiled away: the paper compensates gravity
         return self.gravity_nm * jnp.sin((theta + self.gravity_phase_deg) * DEG)
 
 
-class DCMotor(eqx.Module):
+class AbstractActuator(eqx.Module):
+    """Turns a controller command into joint torque; may carry one state (armature current [A])."""
+
+    @abc.abstractmethod
+    def drive(self, command, voltage: bool, current, omega_deg_s) -> tuple[Array, Array]:
+        """``(joint torque [N*m], d(current)/dt [A/s])`` for a torque [N*m] or voltage [V] command."""
+
+
+class IdealTorque(AbstractActuator):
+    """A perfect torque source: the joint receives the commanded torque [N*m] (no motor dynamics)."""
+
+    def drive(self, command, voltage, current, omega_deg_s):
+        if voltage:
+            raise ValueError("a voltage command needs a DCMotor actuator, not IdealTorque")
+        return command, jnp.zeros_like(command)
+
+
+class DCMotor(AbstractActuator):
     """Armature-controlled DC motor with a reducer, eq. (3)-(5); ``L = 0`` gives eq. (8).
 
     The paper gives none of these constants. Defaults (see :data:`MOTOR_ASSUMPTIONS`) are those of a
@@ -69,6 +92,24 @@ class DCMotor(eqx.Module):
     def static_current(self, voltage, omega_deg_s):
         """Current [A] when L is neglected, eq. (8)."""
         return (voltage - self.back_emf(omega_deg_s)) / self.R
+
+    neglect_inductance: bool = eqx.field(static=True, default=False)
+
+    def drive(self, command, voltage, current, omega_deg_s):
+        """Torque demand -> voltage by the motor's static inverse (eq. 8), saturated at ``u_max``.
+
+        With ``voltage=True`` the command is already the armature voltage [V]. With
+        ``neglect_inductance`` the current is algebraic (eq. 8) and its state stays at zero.
+        """
+        emf = self.back_emf(omega_deg_s)
+        if voltage:
+            u = command
+        else:
+            u = self.R * command / (self.gear_ratio * self.Km) + emf
+        u = jnp.clip(u, -self.u_max, self.u_max)
+        if self.neglect_inductance:
+            return self.joint_torque((u - emf) / self.R), jnp.zeros_like(current)
+        return self.joint_torque(current), (u - self.R * current - emf) / self.L
 
     def time_constants(self, J):
         """(Te, Tm) in s: electrical L/R and mechanical J*R/(Km*Ke) at the joint, eq. (6)-(7)."""

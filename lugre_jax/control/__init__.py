@@ -1,0 +1,16 @@
+"""Controllers (open loop, PID, cascade, LuGre compensation eq. 19-24) and reference signals."""
+
+from ._controllers import (
+    AbstractController as AbstractController,
+    LuGreCompensated as LuGreCompensated,
+    OpenLoop as OpenLoop,
+    OpenLoopVoltage as OpenLoopVoltage,
+    PositionPID as PositionPID,
+    VelocityPID as VelocityPID,
+)
+from ._reference import (
+    AbstractReference as AbstractReference,
+    PositionSine as PositionSine,
+    VelocityRamp as VelocityRamp,
+    VelocitySteps as VelocitySteps,
+)
