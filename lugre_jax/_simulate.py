@@ -188,9 +188,10 @@ def _solve_adaptive(system: System, ts, rtol, atol, max_steps, solver_name, dt0)
         stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol, dtmax=1.0 / 50),
         max_steps=max_steps, throw=False,
     )
-    ok = (sol.result == diffrax.RESULTS.successful) & jnp.all(jnp.isfinite(sol.ys))
-    failed = jnp.where(jnp.all(jnp.isfinite(sol.ys)), RESULT_SOLVER_FAILED, RESULT_NONFINITE)
-    return sol.ys, jnp.where(ok, RESULT_OK, failed)
+    solved = sol.result == diffrax.RESULTS.successful
+    finite = jnp.all(jnp.isfinite(sol.ys))
+    code = jnp.where(solved, jnp.where(finite, RESULT_OK, RESULT_NONFINITE), RESULT_SOLVER_FAILED)
+    return sol.ys, code
 
 
 def _outputs(system: System, ts, ys, result) -> Solution:

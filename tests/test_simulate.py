@@ -1,0 +1,164 @@
+"""The simulator against independent references: scipy solve_ivp (Radau/LSODA, rtol 1e-10), closed
+forms of LuGre (steady state, pre-sliding), finite differences for gradients."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import lugre_jax as lj
+from lugre_jax._simulate import vector_field
+
+
+def _scipy_reference(system, duration, hz, method="LSODA"):
+    f = jax.jit(lambda t, y: vector_field(t, y, system))
+    jac = jax.jit(jax.jacfwd(lambda t, y: vector_field(t, y, system), argnums=1))
+    ts = np.arange(int(round(duration * hz)) + 1) / hz
+    r = solve_ivp(lambda t, y: np.asarray(f(t, y)), (0, duration), np.asarray(system.y0),
+                  method=method, t_eval=ts, rtol=1e-10, atol=1e-12,
+                  jac=(lambda t, y: np.asarray(jac(t, y))) if method != "LSODA" else None)
+    assert r.status == 0, r.message
+    return r.y.T
+
+
+def _pi_system(v_ref, friction=None):
+    return lj.System(friction=lj.paper_friction() if friction is None else friction,
+                     joint=lj.Joint(J=0.128), controller=lj.VelocityPID(kp=8.0, ki=60.0),
+                     reference=lj.VelocitySteps([v_ref]))
+
+
+def test_creep_at_0005_matches_lsoda():
+    # Paper's parameters, velocity PI at 0.005 deg/s: creep / stick-slip regime.
+    system = _pi_system(0.005)
+    ref = _scipy_reference(system, 20.0, 100.0)
+    sol = lj.simulate(system, 20.0, 100.0)
+    assert int(sol.result) == lj.RESULT_OK
+    # Stated agreement: position within 1e-6 deg, velocity within 1e-5 deg/s (measured ~1e-8 / 1e-7).
+    np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-6, rtol=0)
+    np.testing.assert_allclose(sol.omega, ref[:, 1], atol=1e-5, rtol=0)
+    # It really creeps: the joint lags the ideal ramp by more than 0.01 deg at some time.
+    assert np.max(np.asarray(sol.theta_ref - sol.theta)) > 0.01
+
+
+def test_stick_slip_at_002_matches_lsoda():
+    system = _pi_system(0.02)
+    ref = _scipy_reference(system, 20.0, 100.0)
+    sol = lj.simulate(system, 20.0, 100.0)
+    np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-6, rtol=0)
+    np.testing.assert_allclose(sol.omega, ref[:, 1], atol=1e-5, rtol=0)
+    # stick-slip: velocity overshoots the command by more than 3x during slips
+    assert float(sol.omega.max()) > 3 * 0.02
+
+
+def test_sine_tracking_matches_lsoda():
+    system = lj.System(friction=lj.paper_friction(), joint=lj.Joint(J=0.128),
+                       controller=lj.PositionPID(kpp=20.0, kp=8.0, ki=60.0),
+                       reference=lj.PositionSine(3.0, 0.4))
+    ref = _scipy_reference(system, 5.0, 200.0)
+    sol = lj.simulate(system, 5.0, 200.0, dt=1e-3)
+    # Stated agreement: 1e-5 deg (the start, where v_ref jumps to A*w, dominates: ~2e-6 measured).
+    np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-5, rtol=0)
+    np.testing.assert_allclose(sol.omega, ref[:, 1], atol=5e-4, rtol=0)  # 7e-5 of the 7.5 deg/s amplitude
+    assert float(jnp.abs(sol.theta - sol.theta_ref).max()) < 0.5  # it tracks
+
+
+def test_motor_inductance_adaptive_matches_radau():
+    # L/R = 0.25 ms: stiff; the adaptive implicit path against Radau with the exact Jacobian.
+    system = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),
+                       controller=lj.VelocityPID(kp=8.0, ki=60.0),
+                       reference=lj.VelocitySteps([0.05]), actuator=lj.DCMotor())
+    ref = _scipy_reference(system, 2.0, 100.0, method="Radau")
+    sol = lj.simulate(system, 2.0, 100.0, method="adaptive", rtol=1e-9, atol=1e-11)
+    assert int(sol.result) == lj.RESULT_OK
+    np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-7, rtol=0)
+    np.testing.assert_allclose(sol.omega, ref[:, 1], atol=1e-6, rtol=0)
+    np.testing.assert_allclose(sol.ys[:, 3], ref[:, 3], atol=1e-6, rtol=0)  # current [A]
+    # and the eq. (8) simplification (L neglected) stays close: the motor is fast
+    simple = eqx.tree_at(lambda s: s.actuator, system, lj.DCMotor(neglect_inductance=True))
+    sol8 = lj.simulate(simple, 2.0, 100.0, method="adaptive", rtol=1e-9, atol=1e-11)
+    assert float(jnp.abs(sol8.theta - sol.theta).max()) < 1e-4
+
+
+@pytest.mark.parametrize("v", [-1.0, -0.02, 0.003, 0.04, 0.5, 1.4])
+def test_lugre_steady_state_is_stribeck(v):
+    # Closed form: at constant v the bristle settles at z = sign(v) g(v)/sigma0 and F = Stribeck(v).
+    m = lj.paper_segment(1)
+    z = np.sign(v) * float(m.g(v)) / float(m.sigma0)
+    assert float(m.derivative(z, v)) == pytest.approx(0.0, abs=1e-14)  # it is a fixed point
+    F = float(m.torque(z, v))
+    assert F == pytest.approx(float(m.steady_state(v)), rel=1e-12, abs=1e-12)
+    assert F == pytest.approx(np.sign(v) * float(m.g(v)) + float(m.sigma2) * v, rel=1e-12)
+
+
+def test_steady_state_by_simulation_equals_stribeck():
+    # A constant-velocity sweep done by the simulator (velocity PI, long dwell) ends on the curve.
+    f = lj.paper_segment(2)
+    levels = np.array([0.2, 0.6, 1.0])
+    systems = lj.stack_systems([_pi_system(v, friction=f) for v in levels])
+    sol = lj.simulate(systems, 30.0, 10.0, batched=True)
+    F_end = np.asarray(sol.friction_nm[:, -1])
+    np.testing.assert_allclose(F_end, np.asarray(f.steady_state(levels)), rtol=1e-6)
+
+
+def test_presliding_displacement_is_dF_over_sigma0():
+    # Eq. (17): a tiny torque step dF below breakaway gives a displacement close to dF/sigma0.
+    m = lj.paper_segment(1)
+    dF = 0.05  # N*m, far below Fs = 6.48
+    system = lj.System(friction=m, joint=lj.Joint(J=0.128), controller=lj.OpenLoop(bias=dF),
+                       reference=lj.VelocitySteps([0.0]))
+    sol = lj.simulate(system, 5.0, 100.0, method="adaptive")
+    theta_end = float(sol.theta[-1])
+    s0, g0 = float(m.sigma0), float(m.Fs)
+    # exact for the LuGre bristle at rest: theta = -(g/sigma0) ln(1 - dF/g)
+    assert theta_end == pytest.approx(-(g0 / s0) * np.log(1 - dF / g0), rel=2e-3)
+    assert theta_end == pytest.approx(dF / s0, rel=1e-2)
+    assert abs(float(sol.omega[-1])) < 1e-6
+
+
+def test_gradients_match_central_differences():
+    base = _pi_system(0.02, friction=lj.paper_segment(1))
+
+    def final_theta(p):
+        f = lj.LuGre(Fc=p[0], Fs=p[1], vs=p[2], sigma2=p[3], sigma0=p[4], sigma1=p[5])
+        return lj.simulate(eqx.tree_at(lambda s: s.friction, base, f), 5.0, 20.0).theta[-1]
+
+    p0 = jnp.asarray(lj._params.to_vector(lj.paper_segment(1)))
+    jac = jax.jacfwd(final_theta)(p0)
+    jrev = jax.grad(final_theta)(p0)
+    fd = []
+    for i in range(6):
+        h = 1e-6 * max(1.0, abs(float(p0[i])))
+        e = jnp.zeros(6).at[i].set(h)
+        fd.append((final_theta(p0 + e) - final_theta(p0 - e)) / (2 * h))
+    fd = np.asarray(fd)
+    np.testing.assert_allclose(jac, fd, rtol=1e-4, atol=1e-9)
+    np.testing.assert_allclose(jrev, jac, rtol=1e-10, atol=1e-14)
+
+
+def test_batched_equals_single_and_failed_lane_is_flagged():
+    base = _pi_system(0.02)
+    Js = jnp.array([0.128, 0.2, 1e-6])  # the last is far too light for a 2.5 ms step: blows up
+    batch = eqx.tree_at(lambda s: s.joint.J, lj.broadcast_system(base, 3), Js)
+    sol = lj.simulate(batch, 5.0, 100.0, batched=True, chunk_size=2)
+    assert sol.theta.shape == (3, 501)
+    np.testing.assert_array_equal(np.asarray(sol.result), [0, 0, lj.RESULT_NONFINITE])
+    one = lj.simulate(eqx.tree_at(lambda s: s.joint.J, base, jnp.asarray(0.2)), 5.0, 100.0)
+    np.testing.assert_allclose(sol.theta[1], one.theta, rtol=1e-12, atol=1e-14)
+    loss = lj.trajectory_loss(sol, lambda s: jnp.nanmean((s.theta - s.theta_ref) ** 2, axis=-1))
+    assert np.isfinite(loss[:2]).all() and loss[2] == np.inf
+
+
+def test_adaptive_max_steps_failure_is_a_result_code():
+    sol = lj.simulate(_pi_system(0.02), 5.0, 10.0, method="adaptive", max_steps=10)
+    assert int(sol.result) == lj.RESULT_SOLVER_FAILED
+
+
+def test_bad_static_input_raises_valueerror():
+    with pytest.raises(ValueError, match="whole number of samples"):
+        lj.simulate(_pi_system(0.02), 1.005, 100.0)
+    with pytest.raises(ValueError, match="method"):
+        lj.simulate(_pi_system(0.02), 1.0, 100.0, method="rk45")
+    with pytest.raises(ValueError, match="batch axis"):
+        lj.simulate(_pi_system(0.02), 1.0, 100.0, batched=True)
