@@ -16,12 +16,12 @@ from lugre_jax.identify._data_gen import (
     minimum_torque_velocity,
     paper_like_velocities,
     sample_stribeck_data,
+    table1_static_model,
 )
 from lugre_jax.identify._schemes import check_bounds_fit, curve, detect_boundaries, identify_piecewise, identify_whole
 from lugre_jax.identify._smoothing import fit_smoothing_spline, fit_sum_of_sines, fit_tangent_branch
 from lugre_jax.identify._uncertainty import crlb, standard_errors
 from lugre_jax.io._stribeck_data import summarise_samples
-from lugre_jax.plant import paper_friction
 
 TRUTH = np.array([0.9, 2.4, 0.05, 3.0])  # Fc [N*m], Fs [N*m], vs [deg/s], sigma2 [N*m*s/deg]
 NOISE = 0.08  # N*m per sample, 30 samples per set-point
@@ -37,7 +37,7 @@ def test_boundary_detection_on_paper_like_data():
     """v_min within 0.015 deg/s of the generating model's minimum (0.0919 deg/s, Table 1 model) and
     v_crit within 0.02 deg/s of its kink at 1.2 deg/s, over three noise realisations. (The minimum is
     flat: the true curve changes by < 0.01 N*m over 0.08-0.10 deg/s, so its location is noise-limited.)"""
-    v_true, _ = minimum_torque_velocity(paper_friction())
+    v_true, _ = minimum_torque_velocity(table1_static_model())
     assert abs(v_true - 0.0919) < 1e-3
     for seed in (0, 1, 2):
         b = detect_boundaries(_paper_like(seed))
@@ -81,7 +81,7 @@ def test_piecewise_recovers_table1_with_paper_edges():
     piecewise scheme with those edges recovers each segment's parameters within 3.5 SE."""
     from lugre_jax.plant._paper import TABLE1
 
-    d = sample_stribeck_data(paper_friction(), ACCEL_V, key=jax.random.key(7), noise_sd=NOISE)
+    d = sample_stribeck_data(table1_static_model(), ACCEL_V, key=jax.random.key(7), noise_sd=NOISE)
     # Table 1 itself jumps by 0.008 N*m at 0.05 deg/s: recover each segment on its own (no continuity
     # pseudo-observation), then check that the default (continuity on) leaves only small jumps.
     r = identify_piecewise(d, "lm", key=jax.random.key(3), n_seeds=16, edges=(0.05, 1.2), continuity_weight=0.0)

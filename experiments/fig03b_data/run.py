@@ -12,11 +12,10 @@ from pathlib import Path
 import jax.numpy as jnp
 import numpy as np
 
-from lugre_jax.identify._data_gen import decel_branch, minimum_torque_velocity
+from lugre_jax.identify._data_gen import decel_branch, minimum_torque_velocity, table1_static_model
 from lugre_jax.identify._schemes import detect_boundaries
 from lugre_jax.io import write_csv, write_json
 from lugre_jax.io._stribeck_data import load_stribeck_csv
-from lugre_jax.plant import paper_friction
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -30,7 +29,7 @@ def main() -> None:
     d = load_stribeck_csv(a.data)
     write_csv(out / "averaged.csv", dict(velocity_deg_s=d.velocity, torque_nm=d.torque, torque_se_nm=d.torque_se,
                                          torque_sd_nm=d.torque_sd, decel=(d.branch == "decel").astype(float)))
-    m = paper_friction()
+    m = table1_static_model()
     v_true, t_true = minimum_torque_velocity(m)
     g = np.linspace(0.001, 1.5, 1500)
     write_csv(out / "model.csv", dict(velocity_deg_s=g, accel_nm=np.asarray(m.steady_state(jnp.asarray(g))),

@@ -6,9 +6,9 @@ set-point and averaged them, 92 sets in all; in the low-velocity segment it meas
 accelerating and while decelerating, the static friction being much higher when starting than when
 stopping, the two curves meeting tangentially at the velocity of minimum torque.
 
-We draw the accelerating branch from the paper's own identified model (Table 1, three segments:
-:func:`lugre_jax.plant.paper_friction`) and the decelerating branch as that curve minus a
-Stribeck-shaped dip that vanishes with zero slope at the minimum-torque velocity (tangent there, as
+We draw the accelerating branch from the paper's own identified model (Table 1, three segments
+switched hard at 0.05 and 1.2 deg/s: :func:`table1_static_model`) and the decelerating branch as
+that curve minus a Stribeck-shaped dip that vanishes with zero slope at the minimum-torque velocity (tangent there, as
 the paper requires),
 then add white Gaussian noise per sample.
 
@@ -22,7 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._types import PRNGKeyArray
-from ..friction import AbstractFrictionModel
+from ..friction import AbstractFrictionModel, Segmented
 from ..io._stribeck_data import StribeckData, summarise_samples
 
 PAPER_LIKE_SEED = 284  # the paper's article number; any fixed value would do
@@ -30,6 +30,16 @@ PAPER_LIKE_NOISE_SD = 0.08  # N*m per sample
 PAPER_LIKE_REPEATS = 30  # samples per set-point (section 4.2.2)
 DECEL_STATIC_DROP = 3.0  # N*m: static friction when stopping = when starting minus this
 DECEL_VS = 0.0315  # deg/s: width of the decelerating branch's dip (Table 1, segment 1 vs)
+
+
+def table1_static_model() -> Segmented:
+    """Table 1 as printed: the three segments switched hard at 0.05 and 1.2 deg/s (no blending band,
+    unlike the simulator's default :func:`lugre_jax.plant.paper_friction`, which smooths the edges
+    for the ODE solvers). Steady state in N*m of velocity in deg/s."""
+    from ..plant import paper_friction
+
+    m = paper_friction()
+    return Segmented(m.segments, m.edges, blend=0.0)
 
 
 def minimum_torque_velocity(model: AbstractFrictionModel, v_max: float = 1.5, n: int = 150001) -> tuple[float, float]:
@@ -70,9 +80,7 @@ def make_paper_like_samples(
     model: AbstractFrictionModel | None = None,
 ) -> dict[str, np.ndarray]:
     """Per-sample columns ``velocity_deg_s``, ``torque_nm``, ``branch`` of the shipped data set."""
-    from ..plant import paper_friction
-
-    model = paper_friction() if model is None else model
+    model = table1_static_model() if model is None else model
     v_min, _ = minimum_torque_velocity(model)
     va, vd = paper_like_velocities(v_min)
     mean = np.concatenate([np.asarray(model.steady_state(jnp.asarray(va))), np.asarray(decel_branch(model, vd, v_min))])

@@ -342,7 +342,8 @@ class Identification:
         segs = self.main_segments()
         if len(segs) == 1:
             return segs[0].model()
-        return Segmented(tuple(s.model() for s in segs), jnp.asarray([s.v_range[1] for s in segs[:-1]]))
+        # Hard switches: the identified segments are valid on their own ranges, nothing is blended.
+        return Segmented(tuple(s.model() for s in segs), jnp.asarray([s.v_range[1] for s in segs[:-1]]), blend=0.0)
 
     def predict(self, v, branch: str = "accel"):
         """Identified steady-state torque [N*m] at ``v`` [deg/s]."""
