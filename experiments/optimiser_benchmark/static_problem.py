@@ -32,7 +32,8 @@ NOISE_SD = 0.015  # N*m
 def stribeck(p, v):
     """Eq. (10) for v > 0, delta = 2: torque [N*m] at velocities ``v`` [deg/s]; ``p = (Fc, Fs, vs, sigma2)``."""
     Fc, Fs, vs, s2 = p[0], p[1], p[2], p[3]
-    return Fc + (Fs - Fc) * jnp.exp(-jnp.square(v / vs)) + s2 * v
+    # one reciprocal per parameter set instead of a division per point (division is the slow op)
+    return Fc + (Fs - Fc) * jnp.exp(-jnp.square(v * (1.0 / vs))) + s2 * v
 
 
 def stribeck_np(P, v):
