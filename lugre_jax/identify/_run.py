@@ -172,7 +172,7 @@ def optimise(
             loss0 = np.asarray(jax.vmap(lambda x: finite_or_inf(loss_fn(x)))(x0))
             nfev = out["nfev"] + dim * out["njev"]
             x_g, l_g = out["x"], out["loss"]
-            hist = np.stack([np.minimum(loss0, l_g), l_g], axis=1)
+            hist = np.stack([loss0, l_g], axis=1)
             evals = np.stack([np.ones(n_seeds, int), nfev], axis=1)
             wall, comp, codes = float(np.sum(out["wall_time"])), 0.0, out["status"]
         else:
