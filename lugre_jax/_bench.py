@@ -1,0 +1,315 @@
+"""Speed benchmark of the batched simulator (issue: core simulator), all ratios measured in one run.
+
+Scenario: the paper's segmented LuGre joint (Tables 1-2, J = 0.128) under velocity PI (kp = 8,
+ki = 60) commanded at 0.02 deg/s for 20 s, a stick-slip run. Each lane gets its own parameter set
+(every friction parameter scaled by a lane-specific factor in [0.9, 1.1]).
+
+Baseline: a plain Python loop of ``scipy.integrate.solve_ivp`` (LSODA) on a hand-written
+scalar right-hand side (4 states: no JAX dispatch in the loop, which would make scipy look worse
+than it is). Accuracy of both is measured against a tight reference (LSODA, rtol 1e-11), and the
+scipy tolerance is chosen to match ours ("matched accuracy"); scipy at its default tolerance is
+reported as well.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from . import _config  # noqa: F401
+from ._params import from_vector, to_vector
+from ._simulate import System, broadcast_system, simulate, vector_field
+from .control import VelocityPID, VelocitySteps
+from .friction import LuGre, Segmented
+from .plant import PAPER_J, Joint, paper_friction, paper_segment
+
+V_CMD, KP, KI, DURATION, HZ = 0.02, 8.0, 60.0, 20.0, 100.0
+FAST = dict(solver="bosh3", dt=1e-2)  # chosen by the accuracy table below
+_SCALED = ("Fc", "Fs", "sigma0", "sigma1", "sigma2")
+
+
+def bench_system(factors: np.ndarray | None = None) -> System:
+    """The benchmark system; ``factors`` (n, 5) scale Fc, Fs, sigma0, sigma1, sigma2 per lane."""
+    fr = paper_friction()
+    base = System(friction=fr, joint=Joint(J=PAPER_J), controller=VelocityPID(kp=KP, ki=KI),
+                  reference=VelocitySteps([V_CMD]))
+    if factors is None:
+        return base
+    n = factors.shape[0]
+    batch = broadcast_system(base, n)
+    segs = []
+    for seg in batch.friction.segments:
+        for j, name in enumerate(_SCALED):
+            seg = eqx.tree_at(lambda m: getattr(m, name), seg, getattr(seg, name) * factors[:, j])
+        segs.append(seg)
+    return eqx.tree_at(lambda s: s.friction.segments, batch, tuple(segs))
+
+
+def lane_factors(n: int, seed: int = 0) -> np.ndarray:
+    return np.random.default_rng(seed).uniform(0.9, 1.1, size=(n, len(_SCALED)))
+
+
+def _numpy_rhs(factors):
+    """Plain-Python right-hand side of the same closed loop, states (theta, omega, z, xi)."""
+    segs = []
+    for k in (1, 2, 3):
+        m = paper_segment(k)
+        p = {n: float(getattr(m, n)) for n in ("Fc", "Fs", "vs", "sigma0", "sigma1", "sigma2")}
+        for j, name in enumerate(_SCALED):
+            p[name] *= factors[j]
+        segs.append(p)
+    edges, blend = (0.05, 1.2), paper_friction().blend
+    c = [s["sigma0"] / segs[0]["sigma0"] for s in segs]
+    exp = math.exp
+
+    def seg_out(p, ck, z, v):
+        x = abs(v) / p["vs"]
+        g = p["Fc"] + (p["Fs"] - p["Fc"]) * exp(-x * x)
+        zk = z / ck
+        dzk = v - p["sigma0"] * abs(v) * zk / g
+        return ck * dzk, p["sigma0"] * zk + p["sigma1"] * dzk + p["sigma2"] * v
+
+    def rhs(t, y):
+        theta, omega, z, xi = y
+        a = abs(omega)
+        dz, F = seg_out(segs[0], c[0], z, omega)
+        for k in (1, 2):
+            e = edges[k - 1]
+            xx = min(max((a - e * (1 - blend)) / (2 * blend * e), 0.0), 1.0)
+            if xx > 0:
+                w = xx * xx * (3 - 2 * xx)
+                dz2, F2 = seg_out(segs[k], c[k], z, omega)
+                dz, F = dz + w * (dz2 - dz), F + w * (F2 - F)
+        err = V_CMD - omega
+        tau = KP * err + KI * xi
+        return [omega, (tau - F) / PAPER_J, dz, err]
+
+    return rhs
+
+
+def scipy_solve(factors, rtol=1e-3, atol=1e-6):
+    ts = np.arange(int(DURATION * HZ) + 1) / HZ
+    r = solve_ivp(_numpy_rhs(factors), (0.0, DURATION), [0.0, 0.0, 0.0, 0.0], method="LSODA",
+                  t_eval=ts, rtol=rtol, atol=atol)
+    return r.y.T
+
+
+def _timeit(fn, repeat=3):
+    best = np.inf
+    for _ in range(repeat):
+        t = time.perf_counter()
+        jax.block_until_ready(fn())
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def _err(a, b):
+    return float(np.max(np.abs(a[:, 0] - b[:, 0]))), float(np.max(np.abs(a[:, 1] - b[:, 1])))
+
+
+def accuracy_table(progress):
+    """Error of each candidate fixed-step config and of scipy at several rtols, vs a tight reference."""
+    f = lane_factors(1, seed=1)[0]
+    ref = scipy_solve(f, rtol=1e-11, atol=1e-13)
+    one = bench_system(f[None])
+    one = jax.tree.map(lambda x: x[0] if eqx.is_array(x) else x, one)
+    rows = []
+    for solver, dt in [("tsit5", 2.5e-3), ("tsit5", 1e-2), ("bosh3", 5e-3), ("bosh3", 1e-2),
+                       ("heun", 1e-2), ("ralston", 1e-2)]:
+        sol = simulate(one, DURATION, HZ, solver=solver, dt=dt)
+        e = _err(np.asarray(sol.ys[:, :2]), ref)
+        stages = len(jax.tree.leaves(_tableau(solver).c)) and (len(_tableau(solver).a_lower) + (0 if _tableau(solver).fsal else 1))
+        rows.append(dict(solver=solver, dt_s=dt, theta_err_deg=e[0], omega_err_deg_s=e[1],
+                         rhs_evals_per_sim=int(round(DURATION / dt)) * stages))
+        progress.update()
+    sc = []
+    for rtol in (1e-3, 1e-4, 1e-5, 1e-6):
+        y = scipy_solve(f, rtol=rtol, atol=rtol * 1e-3)
+        e = _err(y, ref)
+        sc.append(dict(rtol=rtol, atol=rtol * 1e-3, theta_err_deg=e[0], omega_err_deg_s=e[1]))
+        progress.update()
+    return rows, sc
+
+
+def _tableau(name):
+    from ._simulate import _FIXED_SOLVERS
+
+    return _FIXED_SOLVERS[name].tableau
+
+
+def scipy_loop_time(n, rtol, atol):
+    fs = lane_factors(n, seed=2)
+    t = time.perf_counter()
+    for f in fs:
+        scipy_solve(f, rtol=rtol, atol=atol)
+    return (time.perf_counter() - t) / n
+
+
+def jax_throughput(batch, shard, repeat=2, **cfg):
+    system = bench_system(lane_factors(batch, seed=3))
+    reduce = _final_state
+
+    def run():
+        return simulate(system, DURATION, HZ, batched=True, shard=shard, reduce=reduce, **cfg)
+
+    t0 = time.perf_counter()
+    out = run()
+    jax.block_until_ready(out)
+    compile_s = time.perf_counter() - t0
+    el = _timeit(run, repeat)
+    ok = int(np.sum(np.asarray(out[1]) == 0))
+    return dict(batch=batch, devices=len(jax.devices()) if shard else 1, seconds=el,
+                sims_per_s=batch / el, first_call_s=compile_s, lanes_ok=ok)
+
+
+def _final_state(sol):
+    return sol.ys[-1], sol.result
+
+
+def jacobian_cost(batch, **cfg):
+    """Full Jacobian of a trajectory loss w.r.t. the six LuGre parameters vs one forward solve."""
+    base = System(friction=paper_segment(1), joint=Joint(J=PAPER_J),
+                  controller=VelocityPID(kp=KP, ki=KI), reference=VelocitySteps([V_CMD]))
+    p0 = to_vector(paper_segment(1))
+
+    def loss(p):
+        s = eqx.tree_at(lambda s: s.friction, base, from_vector(LuGre, p))
+        sol = simulate(s, DURATION, HZ, **cfg)
+        return jnp.mean((sol.theta - sol.theta_ref) ** 2)
+
+    ps = jnp.asarray(p0) * jnp.asarray(np.random.default_rng(4).uniform(0.9, 1.1, (batch, 6)))
+    fwd = jax.jit(jax.vmap(loss))
+    jf = jax.jit(jax.vmap(jax.jacfwd(loss)))
+    jr = jax.jit(jax.vmap(jax.grad(loss)))
+    for f in (fwd, jf, jr):
+        jax.block_until_ready(f(ps))
+    t_f, t_jf, t_jr = (_timeit(lambda f=f: f(ps)) for f in (fwd, jf, jr))
+    return dict(batch=batch, forward_s=t_f, jacfwd_s=t_jf, grad_reverse_s=t_jr,
+                jacfwd_over_forward=t_jf / t_f, reverse_over_forward=t_jr / t_f)
+
+
+def rhs_floor(n=200_000):
+    """Time of one fused right-hand-side evaluation per lane: the arithmetic floor of a step stage."""
+    system = bench_system(lane_factors(n, seed=5))
+    ys = jnp.asarray(np.random.default_rng(6).normal(size=(n, 8)) * 1e-3)
+    dyn, static = eqx.partition(system, eqx.is_array)
+
+    @jax.jit
+    def f(dyn, ys):
+        return jax.vmap(lambda d, y: vector_field(0.5, y, eqx.combine(d, static)))(dyn, ys)
+
+    jax.block_until_ready(f(dyn, ys))
+    el = _timeit(lambda: f(dyn, ys), repeat=5)
+    cost = f.lower(dyn, ys).compile().cost_analysis()
+    cost = cost[0] if isinstance(cost, list) else cost
+    return dict(lanes=n, ns_per_rhs_eval=el / n * 1e9,
+                flops_per_rhs_eval=float(cost.get("flops", float("nan"))) / n,
+                transcendentals_per_rhs_eval=float(cost.get("transcendentals", float("nan"))) / n)
+
+
+_MEM_SCRIPT = r"""
+import os, sys, time, resource, json
+os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=%d"
+import jax, numpy as np
+from lugre_jax._bench import bench_system, lane_factors, _final_state, DURATION, HZ, FAST
+from lugre_jax import simulate
+n, chunk = %d, %d
+s = bench_system(lane_factors(n, seed=7))
+t = time.perf_counter()
+out = simulate(s, DURATION, HZ, batched=True, chunk_size=chunk, reduce=_final_state, **FAST)
+jax.block_until_ready(out)
+el = time.perf_counter() - t
+print(json.dumps(dict(lanes=n, chunk_size=chunk, seconds_incl_compile=el,
+      lanes_ok=int((np.asarray(out[1]) == 0).sum()),
+      peak_rss_gb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2)))
+"""
+
+
+def memory_run(n, chunk, ndev):
+    r = subprocess.run([sys.executable, "-c", _MEM_SCRIPT % (ndev, n, chunk)], capture_output=True,
+                       text=True, timeout=3600)
+    if r.returncode != 0:
+        raise RuntimeError(f"memory run failed: {r.stderr[-2000:]}")
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def run_benchmark(quick: bool = False, progress=None) -> dict:
+    from tqdm.auto import tqdm
+
+    batches = [1, 100, 1000] if quick else [1, 100, 1000, 10_000]
+    n_scipy = 10 if quick else 40
+    total = 10 + 2 * len(batches) + 3 + 2
+    bar = progress or tqdm(total=total, desc="bench", unit="step")
+    out: dict = dict(
+        scenario=dict(description="paper segmented LuGre, velocity PI kp=8 ki=60, 0.02 deg/s step, "
+                      "20 s sampled at 100 Hz; lane parameters scaled by U[0.9, 1.1]",
+                      duration_s=DURATION, sample_hz=HZ, v_cmd_deg_s=V_CMD),
+        machine=dict(cpu_count=os.cpu_count(), devices=len(jax.devices()), jax=jax.__version__,
+                     python=platform.python_version(), processor=platform.processor()),
+        fast_config=FAST, quick=quick,
+    )
+    rows, sc = accuracy_table(bar)
+    out["accuracy_fixed_step"] = rows
+    out["accuracy_scipy_lsoda"] = sc
+    ours = next(r for r in rows if r["solver"] == FAST["solver"] and r["dt_s"] == FAST["dt"])
+    # matched accuracy: the loosest scipy tolerance whose position error is no worse than ours
+    matched = next((s for s in sc if s["theta_err_deg"] <= ours["theta_err_deg"]), sc[-1])
+    out["matched_scipy_tolerance"] = matched
+    t_default = scipy_loop_time(n_scipy, 1e-3, 1e-6)
+    bar.update()
+    t_matched = scipy_loop_time(n_scipy, matched["rtol"], matched["atol"])
+    bar.update()
+    out["scipy_loop"] = dict(solves_timed=n_scipy, default_tol_s_per_sim=t_default,
+                             matched_tol_s_per_sim=t_matched,
+                             note="a Python loop costs n times one solve; timed on a sample of solves")
+    tp = []
+    for b in batches:
+        for shard in (False, True):
+            if shard and len(jax.devices()) < 2:
+                continue
+            tp.append(jax_throughput(b, shard, **FAST))
+            bar.update()
+    out["throughput"] = tp
+    best = {}
+    for r in tp:
+        if r["sims_per_s"] > best.get(r["batch"], {}).get("sims_per_s", 0):
+            best[r["batch"]] = r
+    for b, r in best.items():
+        out[f"speedup_vs_scipy_matched_b{b}"] = r["sims_per_s"] * t_matched
+        out[f"speedup_vs_scipy_default_tol_b{b}"] = r["sims_per_s"] * t_default
+    for b in batches:
+        one = [r for r in tp if r["batch"] == b and r["devices"] == 1]
+        two = [r for r in tp if r["batch"] == b and r["devices"] > 1]
+        if one and two:
+            out[f"two_devices_over_one_b{b}"] = two[0]["sims_per_s"] / one[0]["sims_per_s"]
+    out["jacobian_b1"] = jacobian_cost(1, **FAST)
+    bar.update()
+    out["jacobian_b100"] = jacobian_cost(100, **FAST)
+    bar.update()
+    fl = rhs_floor()
+    stages = ours["rhs_evals_per_sim"]
+    fl["rhs_evals_per_sim"] = stages
+    fl["floor_sims_per_s_one_core"] = 1e9 / (fl["ns_per_rhs_eval"] * stages)
+    bmax = max(batches)
+    fl["achieved_over_floor_one_device"] = next(
+        r["sims_per_s"] for r in tp if r["batch"] == bmax and r["devices"] == 1) / fl["floor_sims_per_s_one_core"]
+    out["floor"] = fl
+    bar.update()
+    n_mem = 10_000 if quick else 100_000
+    out["memory_one_call"] = memory_run(n_mem, 5_000, len(jax.devices()))
+    bar.update()
+    out["peak_rss_gb_this_process"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2
+    bar.close()
+    return out

@@ -1,0 +1,30 @@
+"""``lugre-jax bench [--quick] --out BENCH.json``: simulator speed, all ratios from one run."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("bench", help="benchmark the batched simulator against a scipy loop",
+                       description="Batched JAX simulator vs a Python loop of scipy LSODA, gradient "
+                       "cost vs forward cost, 1 vs 2 devices, peak memory. Writes JSON.")
+    p.add_argument("--out", required=True, help="JSON file to write")
+    p.add_argument("--quick", action="store_true", help="smaller batches (a few minutes)")
+
+
+def run(args) -> int:
+    from .._bench import run_benchmark
+    from ..io import write_json
+
+    res = run_benchmark(quick=args.quick)
+    write_json(args.out, res)
+    keys = sorted(k for k in res if k.startswith(("speedup", "two_devices")))
+    for k in keys:
+        print(f"{k}: {res[k]:.1f}")
+    j = res["jacobian_b1"]
+    print(f"jacfwd/forward (6 params, batch 1): {j['jacfwd_over_forward']:.2f}; "
+          f"reverse/forward: {j['reverse_over_forward']:.2f}")
+    m = res["memory_one_call"]
+    print(f"{m['lanes']} lanes in one call: {m['seconds_incl_compile']:.1f} s, peak RSS {m['peak_rss_gb']:.2f} GB")
+    return 0
