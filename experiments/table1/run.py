@@ -21,12 +21,13 @@ from lugre_jax.plant._paper import TABLE1
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = {
-    # name: (method, refine, edges, target, seeds multiplier)
-    "gapso_detected": ("gapso", True, None, "data", 1),
-    "gapso_paper_edges": ("gapso", True, (0.05, 1.2), "data", 1),
-    "lm_detected": ("lm", False, None, "data", 4),
-    "lm_paper_edges": ("lm", False, (0.05, 1.2), "data", 4),
-    "lm_paper_edges_sines": ("lm", False, (0.05, 1.2), "sines", 4),
+    # name: (method, refine, edges, target, seeds multiplier, continuity weight)
+    "gapso_detected": ("gapso", True, None, "data", 1, 3.0),
+    "gapso_paper_edges": ("gapso", True, (0.05, 1.2), "data", 1, 3.0),
+    "lm_detected": ("lm", False, None, "data", 4, 3.0),
+    "lm_paper_edges": ("lm", False, (0.05, 1.2), "data", 4, 3.0),
+    "lm_paper_edges_no_continuity": ("lm", False, (0.05, 1.2), "data", 4, 0.0),
+    "lm_paper_edges_sines": ("lm", False, (0.05, 1.2), "sines", 4, 3.0),
 }
 
 
@@ -42,10 +43,11 @@ def main() -> None:
     rows = {k: [] for k in ("config", "segment", "v_lo", "v_hi", "Fc", "Fc_se", "Fs", "Fs_se", "vs", "vs_se",
                             "sigma2", "sigma2_se", "loss", "rms_nm", "evaluations", "wall_time_s")}
     results = {}
-    for i, (name, (method, refine, edges, target, mult)) in enumerate(CONFIGS.items()):
+    for i, (name, (method, refine, edges, target, mult, cw)) in enumerate(CONFIGS.items()):
         if a.quick and method != "lm":
             continue
-        r = identify_piecewise(d, method, key=jax.random.key(i), n_seeds=a.seeds * mult, refine=refine, edges=edges, target=target)
+        r = identify_piecewise(d, method, key=jax.random.key(i), n_seeds=a.seeds * mult, refine=refine, edges=edges, target=target,
+                               continuity_weight=cw)
         results[name] = r.as_dict()
         print(f"\n== {name}\n{r.table()}")
         for s in r.segments:
@@ -63,7 +65,8 @@ def main() -> None:
             rows["wall_time_s"].append(s.wall_time)
     write_csv(out / "table1.csv", rows)
     write_json(out / "table1.json", dict(
-        data=a.data, configs={k: dict(method=v[0], refine=v[1], edges=v[2], target=v[3]) for k, v in CONFIGS.items()},
+        data=a.data, configs={k: dict(method=v[0], refine=v[1], edges=v[2], target=v[3], continuity_weight=v[5])
+                 for k, v in CONFIGS.items()},
         config_index={k: i for i, k in enumerate(CONFIGS)},
         paper_table1={str(k): dict(zip(("Fc", "Fs", "vs", "sigma2"), v)) for k, v in TABLE1.items()},
         results=results,

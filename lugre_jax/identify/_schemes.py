@@ -31,7 +31,6 @@ Units: velocity deg/s, torque N*m, vs deg/s, sigma2 N*m*s/deg.
 from __future__ import annotations
 
 import dataclasses
-import time
 from typing import Callable, Literal
 
 import jax
@@ -48,7 +47,6 @@ from ._uncertainty import Uncertainty, standard_errors
 Kind = Literal["stribeck", "coulomb_viscous"]
 NAMES: dict[str, tuple[str, ...]] = {"stribeck": ("Fc", "Fs", "vs", "sigma2"), "coulomb_viscous": ("Fc", "sigma2")}
 UNITS = {"Fc": "N*m", "Fs": "N*m", "vs": "deg/s", "sigma2": "N*m*s/deg"}
-METHODS = ("ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -166,42 +164,24 @@ class _Fit:
     x: np.ndarray
     loss: float
     seed_losses: np.ndarray
-    evaluations: int
-    wall_time: float
-
-
-def _first(obj, *names):  # tolerate renamed result fields
-    for n in names:
-        if hasattr(obj, n):
-            return getattr(obj, n)
-    raise AttributeError(f"optimiser result has none of {names}")
+    evaluations: int  # loss evaluations over all seeds (a Jacobian counts as dim evaluations)
+    wall_time: float  # s, execution of all seeds, compilation excluded
+    compile_time: float  # s
 
 
 def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: int = 1, refine: bool = False, **settings) -> _Fit:
-    """Minimise ``loss_fn`` in the box ``[lo, hi]`` with one of :data:`METHODS` through the package's
-    ``optimise`` entry point; returns the best parameters over seeds and the cost."""
-    if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
-    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
-    from ._run import optimise
-    t0 = time.perf_counter()
-    res = optimise(method, loss_fn, jnp.asarray(lo), jnp.asarray(hi), key=key, n_seeds=n_seeds,
-                   residual_fn=residual_fn, refine=refine, **settings)
-    wall = time.perf_counter() - t0
-    xs = np.atleast_2d(np.asarray(_first(res, "best_x", "x")))
-    ls = np.atleast_1d(np.asarray(_first(res, "best_loss", "loss", "best_f")))
-    # Losses are re-evaluated here so every method is judged by the same function.
-    ls = np.array([float(loss_fn(jnp.asarray(x))) for x in xs])
-    i = int(np.nanargmin(np.where(np.isfinite(ls), ls, np.nan))) if np.isfinite(ls).any() else 0
-    try:
-        ev = int(np.sum(np.asarray(_first(res, "n_evals", "evaluations", "nfev"))))
-    except AttributeError:
-        ev = -1
-    try:
-        wall = float(np.max(np.asarray(_first(res, "wall_time", "wall_time_s"))))
-    except AttributeError:
-        pass
-    return _Fit(xs[i], float(ls[i]), ls, ev, wall)
+    """Minimise ``loss_fn`` in the box ``[lo, hi]`` with :func:`lugre_jax.identify.optimise`; returns
+    the best parameters over ``n_seeds`` seeds with the cost of getting them."""
+    from ._run import METHODS as ALL_METHODS, optimise
+
+    if method not in ALL_METHODS:
+        raise ValueError(f"unknown method {method!r}; choose one of {', '.join(ALL_METHODS)}")
+    res = optimise(method, loss_fn, jnp.asarray(lo, dtype=jnp.float64), jnp.asarray(hi, dtype=jnp.float64), key=key,
+                   n_seeds=n_seeds, residual_fn=residual_fn, refine=refine, **settings)
+    xs = np.atleast_2d(np.asarray(res.x))
+    ls = np.where(np.isfinite(res.loss), np.asarray(res.loss, dtype=np.float64), np.inf)
+    i = int(np.argmin(ls))
+    return _Fit(xs[i], float(ls[i]), ls, int(np.sum(res.n_evals)), float(res.wall_time), float(res.compile_time))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -281,7 +261,8 @@ class SegmentFit:
     rms: float  # N*m, RMS of (model - averaged data) over the segment's set-points
     n_points: int
     evaluations: int
-    wall_time: float
+    wall_time: float  # s, optimiser execution over all seeds (compilation excluded)
+    compile_time: float  # s
     seed_losses: np.ndarray
     uncertainty: Uncertainty
     velocity: np.ndarray  # the set-points used [deg/s]
@@ -315,6 +296,7 @@ class SegmentFit:
             n_points=self.n_points,
             evaluations=self.evaluations,
             wall_time_s=self.wall_time,
+            compile_time_s=self.compile_time,
             seed_losses=self.seed_losses.tolist(),
             **self.uncertainty.as_dict(),
         )
@@ -434,7 +416,7 @@ def _fit_segment(
     return SegmentFit(
         name=name, kind=kind, branch=branch, v_range=(float(v_range[0]), float(v_range[1])), x=np.asarray(fit.x),
         loss=fit.loss, rms=float(np.sqrt(np.mean(resid**2))), n_points=len(d), evaluations=fit.evaluations,
-        wall_time=fit.wall_time, seed_losses=fit.seed_losses, uncertainty=unc, velocity=d.velocity, residual=resid,
+        wall_time=fit.wall_time, compile_time=fit.compile_time, seed_losses=fit.seed_losses, uncertainty=unc, velocity=d.velocity, residual=resid,
     )
 
 
