@@ -114,6 +114,21 @@ def test_bounds_respected_when_minimum_is_outside(method):
     np.testing.assert_allclose(r.x, np.tile([1.0, -1.0], (3, 1)), atol=tol)
 
 
+def test_hash_uniform_moments_and_pso_with_it():
+    from lugre_jax.identify._pso import hash_uniform
+
+    u = np.asarray(hash_uniform(KEY, (400, 500))).ravel()
+    assert u.min() >= 0.0 and u.max() < 1.0
+    # 200k draws: mean and variance within ~5 standard errors of U(0, 1)'s; lag-1 correlation ~0
+    assert abs(u.mean() - 0.5) < 5 * np.sqrt(1 / 12 / u.size)
+    assert abs(u.var() - 1 / 12) < 5 * 0.0745 / np.sqrt(u.size)
+    assert abs(np.corrcoef(u[:-1], u[1:])[0, 1]) < 5 / np.sqrt(u.size)
+    v = np.asarray(hash_uniform(jax.random.split(KEY)[0], (400, 500))).ravel()
+    assert abs(np.corrcoef(u, v)[0, 1]) < 5 / np.sqrt(u.size)
+    r = optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_seeds=2, rng="hash")
+    assert np.all(np.abs(r.x - np.asarray(SHIFT3)) < 1e-4)
+
+
 def test_pso_swarm_stays_in_box():
     lo, hi = jnp.array([0.0, -1.0]), jnp.array([1.0, 3.0])
     out = PSO(n_particles=30, n_iterations=25).run(KEY, lambda x: -jnp.sum(x**2), lo, hi)

@@ -45,6 +45,32 @@ class PSOState(eqx.Module):
     key: PRNGKeyArray
 
 
+def _fmix32(x):
+    """MurmurHash3's 32-bit finaliser: a cheap bijection with full avalanche."""
+    x = x ^ (x >> 16)
+    x = x * jnp.uint32(0x85EBCA6B)
+    x = x ^ (x >> 13)
+    x = x * jnp.uint32(0xC2B2AE35)
+    return x ^ (x >> 16)
+
+
+def hash_uniform(key: PRNGKeyArray, shape: tuple[int, ...]) -> Float[Array, "..."]:
+    """Uniform [0, 1) float64 numbers (24 random bits each) from a counter hash seeded by ``key``.
+
+    Two 32-bit words from ``key`` (one threefry call) seed two rounds of the MurmurHash3 finaliser
+    over a counter. Not a cryptographic generator; good enough for PSO's acceleration coefficients
+    and about ten times cheaper than one threefry draw per number, which dominates PSO's own cost
+    when the loss is cheap.
+    """
+    seed = jax.random.bits(key, (2,), dtype=jnp.uint32)
+    n = 1
+    for d in shape:
+        n *= d
+    x = jax.lax.iota(jnp.uint32, n).reshape(shape)
+    x = _fmix32(_fmix32(x ^ seed[0]) ^ seed[1])
+    return (x >> 8).astype(jnp.float64) * (1.0 / (1 << 24))
+
+
 def _move_one(x, v, p, g, r1, r2, w, c1, c2, vmax, lower, upper):
     """One particle's velocity and position update, with the clamp and the wall rule above.
 
@@ -62,7 +88,8 @@ class PSO(AbstractOptimiser):
     """Global-best PSO with the paper's settings as defaults (section 4.2.3).
 
     ``w``, ``c1``, ``c2`` and ``vmax_frac`` are array leaves: vmap over a stacked ``PSO`` to sweep
-    them. ``n_particles`` and ``n_iterations`` are static.
+    them. ``n_particles`` and ``n_iterations`` are static. ``rng="hash"`` draws ``r1, r2`` with
+    :func:`hash_uniform` instead of ``jax.random.uniform`` (faster when the loss is cheap).
     """
 
     n_particles: int = eqx.field(static=True, default=100)
@@ -71,8 +98,11 @@ class PSO(AbstractOptimiser):
     c1: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=2.0)
     c2: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=2.0)
     vmax_frac: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.2)
+    rng: str = eqx.field(static=True, default="threefry")
 
     def __check_init__(self):
+        if self.rng not in ("threefry", "hash"):
+            raise ValueError(f"PSO rng must be 'threefry' (jax.random) or 'hash' (hash_uniform), got {self.rng!r}")
         if self.n_particles < 2:
             raise ValueError(f"PSO needs n_particles >= 2, got {self.n_particles}")
         if self.n_iterations < 0:
@@ -95,7 +125,10 @@ class PSO(AbstractOptimiser):
         key, sub = jax.random.split(state.key)
         # float32 draws (cast up) halve the PRNG work, which dominates a cheap loss; 24 random bits
         # are plenty for an acceleration coefficient.
-        r = jax.random.uniform(sub, (2,) + state.x.shape, dtype=jnp.float32).astype(state.x.dtype)
+        if self.rng == "hash":
+            r = hash_uniform(sub, (2,) + state.x.shape).astype(state.x.dtype)
+        else:
+            r = jax.random.uniform(sub, (2,) + state.x.shape, dtype=jnp.float32).astype(state.x.dtype)
         vmax = self.vmax_frac * (upper - lower)
         x, v = jax.vmap(_move_one, in_axes=(0, 0, 0, None, 0, 0, None, None, None, None, None, None))(
             state.x, state.v, state.pbest, state.best_x, r[0], r[1], self.w, self.c1, self.c2, vmax, lower, upper
