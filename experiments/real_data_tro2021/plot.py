@@ -42,6 +42,7 @@ def main() -> None:
             ax.set_xlabel("|velocity| [deg/s] (motor side)")
             ax.set_ylabel("|torque| [mN*m]")
             ax.legend(fontsize=7)
+    fig.tight_layout()
     save_figure(fig, r / "real_data_tro2021.png")
     print(r / "real_data_tro2021.png")
 
