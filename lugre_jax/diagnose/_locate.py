@@ -13,7 +13,7 @@ Tests (each gives one p-value per region):
   period grid with a Bonferroni correction for the number of independent frequencies;
 * a periodogram against TIME, each ordinate divided by the local median of its neighbours (robust to
   coloured noise), maximised with a Bonferroni correction;
-* cross-correlation of the residual with the inputs (v, a, sign(v)) at lags up to +-0.5 s, with
+* cross-correlation of the residual with the inputs (v, a, jerk, sign(v)) at lags up to +-0.5 s, with
   Bartlett's variance for two autocorrelated series, Bonferroni over lags;
 * Ljung-Box whiteness on 20 lags (reported; not a location).
 
@@ -252,8 +252,9 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05) -> dict:
     max_lag = max(1, int(round(0.5 * fs)))
     L = min(r.size // 4, int(5 * fs))
     xcs = {}
+    jerk = np.gradient(np.asarray(rec.acceleration, float), np.asarray(rec.time, float))
     for name, x in (("velocity", rec.velocity), ("acceleration", rec.acceleration),
-                    ("sign_velocity", np.sign(rec.velocity))):
+                    ("jerk", jerk), ("sign_velocity", np.sign(rec.velocity))):
         xc = xcorr_test(r, np.asarray(x, float), max_lag, L)
         if xc is not None:
             xcs[name] = xc

@@ -271,7 +271,7 @@ class Compliance(AbstractCandidate):
 
     def initial_guesses(self, ctx):
         fs = ctx["scales"]["fs"]
-        fns = [f for f in (0.5, 1.0, 2.0, 5.0, 10.0, 20.0) if f < 0.35 * fs]
+        fns = [f for f in (0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0) if f < 0.35 * fs]
         if ctx.get("time_peak_hz"):
             fns = [ctx["time_peak_hz"]] + fns
         J0 = 0.05 * ctx["scales"]["T/A"]

@@ -1,7 +1,7 @@
 """Synthetic joint recordings with a known (possibly concealed) missing effect, by inverse dynamics.
 
 A smooth trajectory theta(t) is prescribed -- velocity plateaus at +-0.05 ... +-2 deg/s joined by
-raised-cosine transitions, with directions chosen so that the position slowly sweeps a range, so
+smooth (septic smoothstep, 0.8 s) transitions, with directions chosen so that the position slowly sweeps a range, so
 speed, direction, position and time are not confounded. Along it the LuGre state z is integrated
 (exact-exponential update on a grid ``n_sub`` times finer than the samples), the torque is
 ``J*a + F_LuGre(z, v) + effect + noise`` (Li et al., Electronics 2020, 9, 284, eq. 1-2 and 9), and
@@ -33,9 +33,10 @@ def true_friction() -> LuGre:
 
 
 def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
-                     speeds=SPEEDS, plateau=(2.0, 6.0), transition=0.5, sweep=(0.0, 120.0)):
-    """(t, v, a) on a fine grid: random plateaus, raised-cosine transitions, position sweeping ``sweep``.
+                     speeds=SPEEDS, plateau=(2.0, 6.0), transition=(0.3, 0.8), sweep=(0.0, 120.0)):
+    """(t, v, a) on a fine grid: random plateaus, smooth transitions, position sweeping ``sweep``.
 
+    Transitions last 0.3 or 0.8 s (random), so that some are fast enough to excite an elastic mode.
     The direction of each plateau heads toward a target that moves slowly between the ends of
     ``sweep``; one plateau in four goes the other way, so every speed is seen in both directions at
     many positions.
@@ -56,15 +57,19 @@ def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
             sgn = -sgn
         s = sgn * float(rng.choice(speeds))
         dur = float(rng.uniform(*plateau))
-        segs.append((t0, v_prev, s, dur))
-        pos += 0.5 * (v_prev + s) * transition + s * (dur - transition)
+        tr = float(rng.choice(transition))
+        segs.append((t0, v_prev, s, dur, tr))
+        pos += 0.5 * (v_prev + s) * tr + s * (dur - tr)
         v_prev, t0 = s, t0 + dur
-    for t0, v0, v1, dur in segs:
+    for t0, v0, v1, dur, transition in segs:
         m = (t >= t0) & (t < t0 + dur)
         tau = t[m] - t0
         w = np.clip(tau / transition, 0, 1)
-        v[m] = v0 + (v1 - v0) * 0.5 * (1 - np.cos(np.pi * w))
-        a[m] = np.where(tau < transition, (v1 - v0) * 0.5 * np.pi / transition * np.sin(np.pi * w), 0.0)
+        # septic smoothstep: velocity, acceleration, jerk and snap continuous, so that the
+        # acceleration the tool derives from sampled velocity (low-pass + central differences) is
+        # exact to well below the torque noise -- no artefact at the start/end of a transition
+        v[m] = v0 + (v1 - v0) * (-20 * w**7 + 70 * w**6 - 84 * w**5 + 35 * w**4)
+        a[m] = np.where(tau < transition, (v1 - v0) / transition * 140 * w**3 * (1 - w) ** 3, 0.0)
     return t, v, a
 
 
@@ -84,7 +89,7 @@ def effect_instance(name: str, strength: float = 1.0):
     if name == "backlash":
         return ph.Backlash(0.001 * s)
     if name == "compliance":
-        return ph.Compliance(3.0, 0.05, 0.008 * s)
+        return ph.Compliance(3.0, 0.05, 0.0016 * s)
     if name == "load_dependent":
         return ph.LoadDependent(0.03 * s, 0.02)
     raise ValueError(f"unknown effect {name!r}; expected one of {list(ph.CANDIDATES)}")

@@ -1,0 +1,134 @@
+"""Figures for a diagnose report: residual before/after vs time, velocity and position, and the shape
+of each named effect (Li et al., Electronics 2020, 9, 284 joint model; recording units)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..io._atomic import save_figure
+from . import _model as M
+
+
+def _binned(x, r, edges):
+    idx = np.digitize(x, edges) - 1
+    ok = (idx >= 0) & (idx < len(edges) - 1)
+    c, m, s = [], [], []
+    for k in range(len(edges) - 1):
+        sel = ok & (idx == k)
+        if sel.sum() < 5:
+            continue
+        c.append(0.5 * (edges[k] + edges[k + 1]))
+        m.append(r[sel].mean())
+        s.append(1.96 * r[sel].std() / np.sqrt(sel.sum()))
+    return np.array(c), np.array(m), np.array(s)
+
+
+def effect_torques(model: M.JointModel, kin) -> dict[str, np.ndarray]:
+    """Torque contributed by each candidate of ``model`` (model minus model-without-it)."""
+    full = M.predict(model, kin)
+    out = {}
+    for i, c in enumerate(model.candidates):
+        rest = model.candidates[:i] + model.candidates[i + 1:]
+        out[c.id] = full - M.predict(M.JointModel(model.J, model.friction, model.offset, rest), kin)
+    return out
+
+
+def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    outdir = Path(outdir)
+    arr = report["_arrays"]
+    r0, r1 = np.asarray(arr["r0"]), np.asarray(arr["r1"])
+    t, v, th = rec.time, rec.velocity, rec.position
+    u = rec.units
+    written = []
+
+    fig, axs = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
+    te = np.linspace(t[0], t[-1], 101)
+    for ax, r, lab in ((axs[0], r0, "baseline"), (axs[1], r1, "after modelling")):
+        ax.plot(t, r, lw=0.3, color="0.6")
+        c, m, s = _binned(t, r, te)
+        ax.errorbar(c, m, s, fmt=".-", color="C3", lw=1, ms=3, label="binned mean, 95% CI")
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_ylabel(f"residual [{u['torque']}]")
+        ax.set_title(f"{lab}: residual vs time (validation RMSE "
+                     f"{report['baseline' if r is r0 else 'improved']['validation_rmse_nm']:.4g})")
+        ax.legend(loc="upper right", fontsize=8)
+    axs[1].set_xlabel(f"time [{u['time']}]")
+    save_figure(fig, outdir / "residual_time.png")
+    plt.close(fig)
+    written.append(str(outdir / "residual_time.png"))
+
+    V = np.percentile(np.abs(v), 99.5)
+    lin = np.logspace(np.log10(max(V * 1e-3, 1e-12)), np.log10(V), 25)
+    ve = np.concatenate([-lin[::-1], lin])
+    fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+    for r, lab, col in ((r0, "baseline", "C0"), (r1, "after", "C3")):
+        c, m, s = _binned(v, r, ve)
+        axs[0].errorbar(c, m, s, fmt="o-", ms=3, color=col, label=lab)
+        pe = np.quantile(th, np.linspace(0, 1, 41))
+        c, m, s = _binned(th, r, pe)
+        axs[1].errorbar(c, m, s, fmt="o-", ms=3, color=col, label=lab)
+    axs[0].set_xscale("symlog", linthresh=V * 1e-3)
+    axs[0].set_xlabel(f"velocity [{u['velocity']}]")
+    axs[1].set_xlabel(f"position [{u['position']}]")
+    for ax in axs:
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_ylabel(f"mean residual [{u['torque']}] (95% CI)")
+        ax.legend(fontsize=8)
+    fig.suptitle("Residual binned by velocity and by position, before and after modelling")
+    save_figure(fig, outdir / "residual_velocity_position.png")
+    plt.close(fig)
+    written.append(str(outdir / "residual_velocity_position.png"))
+
+    pp = arr["loc0"]["position_periodogram"]
+    tp = arr["loc0"]["time_periodogram"]
+    fig, axs = plt.subplots(1, 2, figsize=(11, 3.5))
+    axs[0].semilogx(1 / pp["freqs"], pp["z"], lw=0.7)
+    axs[0].set_xlabel(f"period [{u['position']}]")
+    axs[0].set_ylabel("normalised power (Exp(1) under H0)")
+    axs[0].set_title(f"vs position (family p = {pp['p_value']:.2g})")
+    axs[1].semilogx(tp["freqs"], tp["ratio"], lw=0.3)
+    axs[1].set_xlabel("frequency [Hz]")
+    axs[1].set_ylabel("power / local median")
+    axs[1].set_title(f"vs time (family p = {tp['p_value']:.2g})")
+    save_figure(fig, outdir / "residual_periodograms.png")
+    plt.close(fig)
+    written.append(str(outdir / "residual_periodograms.png"))
+
+    model = arr["improved_model"]
+    if model.candidates:
+        kin = arr["kin"]
+        eff = effect_torques(model, kin)
+        for c in model.candidates:
+            e = eff[c.id]
+            fig, ax = plt.subplots(figsize=(7, 4))
+            if c.id in ("position_ripple", "gravity"):
+                x, xl = th, f"position [{u['position']}]"
+            elif c.id in ("asymmetry", "stribeck_shape"):
+                x, xl = v, f"velocity [{u['velocity']}]"
+            elif c.id == "load_dependent":
+                x, xl = rec.acceleration, f"acceleration [{u['acceleration']}]"
+            else:
+                x, xl = t, f"time [{u['time']}]"
+            o = np.argsort(x)
+            ax.plot(x[o], r0[o], ",", color="0.7", label="baseline residual")
+            ax.plot(x[o], e[o], ".", ms=1.5, color="C3", label=f"{c.id} torque (fitted)")
+            if c.id in ("asymmetry", "stribeck_shape"):
+                ax.set_xscale("symlog", linthresh=V * 1e-3)
+            lim = 4 * max(np.max(np.abs(e)), 1e-12)
+            ax.set_ylim(-lim, lim)
+            ax.set_xlabel(xl)
+            ax.set_ylabel(f"torque [{u['torque']}]")
+            ax.set_title(f"named effect: {c.id}")
+            ax.legend(fontsize=8, markerscale=8)
+            save_figure(fig, outdir / f"effect_{c.id}.png")
+            plt.close(fig)
+            written.append(str(outdir / f"effect_{c.id}.png"))
+    return written

@@ -1,0 +1,177 @@
+"""Tests of lugre_jax.diagnose: recovery of each candidate physics on synthetic recordings, the null
+case, malformed recordings, the locator's statistics and the stiff bristle update."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lugre_jax  # noqa: F401
+from lugre_jax.diagnose import diagnose, holm, make_recording
+from lugre_jax.diagnose._synthetic import effect_instance
+from lugre_jax.io._recording import load_recording, write_recording
+
+DURATION = 200.0  # s: half the proof experiment's recordings, to keep the suite fast
+STRENGTH = 2.0  # x the concealed reference level of the proof experiment
+
+# effect -> (parameter name in the report, true value getter, relative tolerance)
+CHECKS = {
+    "position_ripple": [("period", lambda e: float(e.period), 0.05),
+                        ("amplitude", lambda e: float(e.amplitude), 0.30)],
+    "gravity": [("amplitude", lambda e: float(e.amplitude), 0.30)],
+    "asymmetry": [("offset", lambda e: float(e.offset), 0.30)],
+    "thermal_drift": [("rate", lambda e: float(e.rate), 0.30)],
+    "stribeck_shape": [("delta", lambda e: float(e.delta), 0.10)],
+    "backlash": [("width", lambda e: float(e.width), 0.30)],
+    "compliance": [("fn_hz", lambda e: float(e.fn), 0.05)],
+    "load_dependent": [("mu", lambda e: float(e.mu), 0.30)],
+}
+
+
+# The two most confusable rivals of each effect compete with it here (CI budget: compiling and
+# refitting all eight per test costs minutes); the full library competes in the proof experiment
+# (experiments/diagnose_proof).
+RIVALS = {
+    "position_ripple": ["gravity", "asymmetry"],
+    "gravity": ["position_ripple", "asymmetry"],
+    "asymmetry": ["gravity", "thermal_drift"],
+    "thermal_drift": ["asymmetry", "gravity"],
+    "stribeck_shape": ["asymmetry", "load_dependent"],
+    "backlash": ["stribeck_shape", "load_dependent"],
+    "compliance": ["load_dependent", "asymmetry"],
+    "load_dependent": ["asymmetry", "stribeck_shape"],
+}
+
+
+@pytest.mark.parametrize("effect", list(CHECKS))
+def test_candidate_named_first_and_recovered(effect):
+    rec, truth = make_recording(seed=3, effect=effect, strength=STRENGTH, duration=DURATION)
+    rep = diagnose(rec, progress=False, max_effects=1, candidates=RIVALS[effect] + [effect])
+    assert rep["mismatch"], f"{effect}: nothing located"
+    assert rep["missing_physics"], f"{effect}: nothing named"
+    first = rep["missing_physics"][0]
+    assert first["name"] == effect, (effect, rep["verdict"], rep["selection_log"])
+    eff = effect_instance(effect, STRENGTH)
+    for key, true_of, tol in CHECKS[effect]:
+        got, true = first["params"][key], true_of(eff)
+        assert abs(got - true) <= tol * abs(true), (effect, key, got, true)
+    assert rep["improved"]["validation_rmse_nm"] < rep["baseline"]["validation_rmse_nm"]
+
+
+@pytest.mark.parametrize("seed", [101, 102])
+def test_null_recording_gives_none(seed):
+    rec, _ = make_recording(seed=seed, effect=None, duration=DURATION)
+    rep = diagnose(rec, progress=False)
+    assert rep["verdict"] == "none", rep["mismatch"]
+    assert rep["missing_physics"] == []
+    # the fitted baseline is the truth within noise: validation RMSE within 5% of the noise std
+    assert abs(rep["baseline"]["validation_rmse_nm"] / 0.05 - 1) < 0.05
+
+
+def test_holm_matches_hand_computation():
+    p = np.array([0.01, 0.04, 0.03, 0.005])
+    # sorted: 0.005*4=0.02, 0.01*3=0.03, 0.03*2=0.06, 0.04*1=0.04 -> running max 0.06
+    np.testing.assert_allclose(holm(p), [0.03, 0.06, 0.06, 0.02])
+
+
+def test_exact_exponential_bristle_update_matches_fine_ode():
+    """Per-sample exact-exponential z update vs scipy's stiff solver on the same velocity."""
+    import jax.numpy as jnp
+    from scipy.integrate import solve_ivp
+
+    from lugre_jax.diagnose._model import lugre_torque
+    from lugre_jax.diagnose._synthetic import true_friction
+
+    f = true_friction()
+    t = np.arange(0, 4.0, 0.01)
+    vfun = lambda s: 1.5 * np.sin(2 * np.pi * 0.5 * s)  # noqa: E731 (reversals at 0, 1, 2, 3 s)
+    v = vfun(t)
+    F = np.asarray(lugre_torque(f, jnp.asarray(v), jnp.asarray(np.diff(t)), z0=0.0))
+    g = lambda vv: float(f.g(vv))  # noqa: E731
+    sol = solve_ivp(lambda s, z: [vfun(s) - 100.0 * abs(vfun(s)) * z[0] / g(vfun(s))], (0, t[-1]), [0.0],
+                    method="Radau", t_eval=t, rtol=1e-10, atol=1e-12)
+    z = sol.y[0]
+    Fref = 100.0 * z + 2.0 * (v - 100.0 * np.abs(v) * z / np.array([g(x) for x in v])) + 0.5 * v
+    # mid-interval velocity hold: error O(h^2) in the state; well below the 0.05 N*m test noise
+    assert np.max(np.abs(F - Fref)) < 0.02
+
+
+def _write(tmp_path: Path, text: str) -> Path:
+    p = tmp_path / "rec.csv"
+    p.write_text(text)
+    return p
+
+
+GOOD_HEADER = "time_s,position_deg,velocity_deg_s,torque_nm\n"
+
+
+def _rows(n=20, bad=None):
+    lines = []
+    for i in range(n):
+        cells = [f"{0.01 * i:.2f}", f"{0.1 * i:.3f}", "1.0", "0.5"]
+        if bad and bad[0] == i:
+            cells[bad[1]] = bad[2]
+        lines.append(",".join(cells))
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize(
+    "text, fragments",
+    [
+        ("time_s,position_deg,torque_nm\n" + "0,0,0\n" * 12, ["line 1", "velocity_deg_s"]),
+        (GOOD_HEADER + _rows(bad=(5, 3, "nan")), ["line 7", "torque_nm", "finite"]),
+        (GOOD_HEADER + _rows(bad=(4, 2, "abc")), ["line 6", "velocity_deg_s", "not a number"]),
+        (GOOD_HEADER + _rows(bad=(8, 0, "0.01")), ["line 10", "time_s", "increasing"]),
+        (GOOD_HEADER + _rows(bad=(3, 1, "")), ["line 5", "position_deg", "not a number"]),
+        ("", ["line 1", "empty"]),
+    ],
+)
+def test_malformed_recordings_raise_with_file_line_column(tmp_path, text, fragments):
+    p = _write(tmp_path, text)
+    with pytest.raises(ValueError) as ei:
+        load_recording(p)
+    msg = str(ei.value)
+    assert str(p) in msg
+    for frag in fragments:
+        assert frag in msg, (frag, msg)
+
+
+def test_short_row_is_reported(tmp_path):
+    p = _write(tmp_path, GOOD_HEADER + _rows(12) + "0.5,1.0\n")
+    with pytest.raises(ValueError, match=r"line 14: column 'velocity_deg_s' is missing"):
+        load_recording(p)
+
+
+def test_csv_roundtrip_and_cli_error_exit(tmp_path, capsys):
+    from lugre_jax.cli import main
+
+    rec, _ = make_recording(seed=1, effect=None, duration=20.0)
+    p = tmp_path / "ok.csv"
+    write_recording(p, rec)
+    back = load_recording(p)
+    np.testing.assert_allclose(back.torque, rec.torque, rtol=1e-10)
+    assert back.units["torque"] == "N*m"
+    bad = _write(tmp_path, GOOD_HEADER + _rows(bad=(5, 3, "nan")))
+    assert main(["diagnose", str(bad), "--out", str(tmp_path / "r.json")]) == 2
+    err = capsys.readouterr().err
+    assert "line 7" in err and "torque_nm" in err
+    assert not (tmp_path / "r.json").exists()
+
+
+def test_emps_loader_reproduces_benchmark_idim(request):
+    from lugre_jax.io._emps import default_emps_path, emps_idim_ls, load_emps
+
+    path = Path(request.config.rootpath) / default_emps_path()
+    if not path.exists():
+        pytest.skip(f"EMPS data not found at {path}")
+    rec = load_emps(path)
+    assert rec.units["position"] == "m" and rec.units["torque"] == "N"
+    assert rec.n == 2480
+    fit = emps_idim_ls(rec)["params"]
+    # published: M = 95.1089 kg, Fv = 203.5034 N*s/m, Fc = 20.3935 N, offset = -3.1648 N
+    assert abs(fit["M"] / 95.1089 - 1) < 0.01
+    assert abs(fit["Fv"] / 203.5034 - 1) < 0.03
+    assert abs(fit["Fc"] / 20.3935 - 1) < 0.05
+    assert abs(fit["offset"] - (-3.1648)) < 0.2
