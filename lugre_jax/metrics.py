@@ -20,6 +20,8 @@ Definitions (stated once, used everywhere):
   over a window (stick-slip "steps" on top of the ramp) [deg].
 * **Band fraction** :func:`band_fraction`: fraction of samples with ``|omega - v_cmd| <= band`` (the
   paper's specification: 0.005 deg/s held within +-0.001 deg/s).
+* **Cone fraction** :func:`cone_fraction`: the same band drawn on the position plot as in the
+  paper's Fig. 13 (boundary lines ``(v_cmd +- band)*t``): fraction of samples inside the cone.
 * **Tracking error** :func:`tracking_errors`: RMS and maximum absolute ``theta_ref - theta`` [deg].
 """
 
@@ -29,6 +31,7 @@ import numpy as np
 
 __all__ = [
     "band_fraction",
+    "cone_fraction",
     "creep_amplitude",
     "dead_zone_lag",
     "dead_zone_onset",
@@ -140,6 +143,23 @@ def band_fraction(t, omega, v_cmd: float, band: float = 0.001, *, t_from: float 
     m = window_mask(t, t_from, t_to)
     d = np.abs(np.asarray(omega, dtype=np.float64)[..., m] - v_cmd)
     return np.mean(d <= band, axis=-1)
+
+
+def cone_fraction(t, theta, v_cmd: float, band: float = 0.001, *, t_cmd: float = 0.0,
+                  t_from: float | None = None, t_to: float | None = None) -> np.ndarray:
+    """Fraction (0..1) of samples in ``[t_from, t_to]`` [s] whose position [deg] lies between the
+    paper's error boundary curves ``(v_cmd - band)*(t - t_cmd)`` and ``(v_cmd + band)*(t - t_cmd)``
+    (Fig. 13, lines 3 and 4). ``v_cmd``, ``band`` in deg/s; samples before the command are skipped.
+    A joint with a dead zone ``D`` enters the cone at ``t = v_cmd*D/band``."""
+    if not band > 0:
+        raise ValueError(f"band must be a positive velocity in deg/s, got {band!r}")
+    v_cmd = _check_v(v_cmd)
+    t = np.asarray(t, dtype=np.float64)
+    m = window_mask(t, t_cmd if t_from is None else max(t_from, t_cmd), t_to) & (t > t_cmd)
+    tau = t[m] - t_cmd
+    th = np.asarray(theta, dtype=np.float64)[..., m]
+    lo, hi = np.sort(np.stack([(v_cmd - band) * tau, (v_cmd + band) * tau]), axis=0)
+    return np.mean((th >= lo - 1e-15) & (th <= hi + 1e-15), axis=-1)
 
 
 def tracking_errors(t, theta, theta_ref, *, t_from: float | None = None, t_to: float | None = None) -> dict:

@@ -1,0 +1,191 @@
+"""PNG figures of the reproduced experiments (Li et al., Electronics 2020, 9, 284, Figs. 8-15), drawn
+from the scenario dicts of :mod:`lugre_jax.reproduce._scenarios`. Units: s, deg, deg/s."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..io._atomic import save_figure
+from ._scenarios import BAND, RAMP_WINDOWS
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _step_axes(ax, traces: dict, v: float, title: str, band: bool = True):
+    t = next(iter(traces.values()))["t"]
+    ax.plot(t, v * t, "r-", lw=1.5, label=f"ideal {v:g} deg/s")
+    if band:
+        ax.plot(t, (v + BAND) * t, "b:", lw=1, label=f"+{BAND:g} deg/s bound")
+        ax.plot(t, max(v - BAND, 0.0) * t, "g:", lw=1, label=f"-{BAND:g} deg/s bound")
+    for k, tr in traces.items():
+        ax.plot(tr["t"], tr["theta"], lw=1.2, label=k)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("angle [deg]")
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+
+
+def _sine_axes(ax_pos, ax_err, tr: dict, label: str):
+    ax_pos.plot(tr["t"], tr["theta_ref"], "r-", lw=1.5, label="input 3 sin(0.8 pi t)")
+    ax_pos.plot(tr["t"], tr["theta"], "b--", lw=1.2, label=f"output ({label})")
+    ax_pos.set_xlabel("t [s]")
+    ax_pos.set_ylabel("angle [deg]")
+    ax_pos.legend(fontsize=7)
+    ax_pos.grid(alpha=0.3)
+    ax_err.plot(tr["t"], tr["theta_ref"] - tr["theta"], "k-", lw=1)
+    ax_err.set_xlabel("t [s]")
+    ax_err.set_ylabel("position error [deg]")
+    ax_err.set_title(f"error ({label})", fontsize=10)
+    ax_err.grid(alpha=0.3)
+
+
+def plot_fig08(res: dict, path: Path):
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    _step_axes(ax, res["traces"], res["settings"]["v_deg_s"], "Fig. 8: 0.005 deg/s, no compensation")
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_fig09(res: dict, path: Path):
+    plt = _plt()
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4.2))
+    _sine_axes(axs[0], axs[1], res["traces"]["sine"]["PID"], "PID")
+    axs[0].set_title("Fig. 9a: PID sine tracking", fontsize=10)
+    _step_axes(axs[2], res["traces"]["step"], res["settings"]["v_deg_s"], "Fig. 9c: velocity PI, 0.005 deg/s")
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_fig10(res: dict, path: Path):
+    plt = _plt()
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4.2))
+    _sine_axes(axs[0], axs[1], res["traces"]["sine"]["GA-PSO piecewise"], "GA-PSO piecewise")
+    axs[0].set_title("Fig. 10a: compensated sine tracking", fontsize=10)
+    _step_axes(axs[2], res["traces"]["step"], res["settings"]["v_deg_s"], "Fig. 10c: compensated 0.005 deg/s step",
+               band=False)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_fig12(res: dict, path: Path):
+    plt = _plt()
+    labels = [k for k in res["traces"] if "PID" not in k]
+    fig, axs = plt.subplots(2, len(labels), figsize=(6 * len(labels), 7), squeeze=False)
+    for j, k in enumerate(labels):
+        tr = res["traces"][k]
+        ax = axs[0, j]
+        ax.plot(tr["t"], tr["theta_ref"], "b-", lw=1.5, label="theoretical")
+        ax.plot(tr["t"], tr["theta"], "r--", lw=1.2, label="actual")
+        ax.set_title(f"Fig. 12: {k}", fontsize=10)
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("angle [deg]")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        ax = axs[1, j]
+        ax.plot(tr["v_ref"], tr["omega"] - tr["v_ref"], "k-", lw=1)
+        for (lo, hi) in RAMP_WINDOWS.values():
+            ax.axvspan(lo, hi, color="orange", alpha=0.2)
+        ax.set_xscale("log")
+        ax.set_xlabel("commanded velocity [deg/s] (log)")
+        ax.set_ylabel("velocity error [deg/s]")
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_fig13(res: dict, path: Path):
+    plt = _plt()
+    fig, axs = plt.subplots(2, 2, figsize=(11, 8))
+    for ax, (k, tr), v in zip(axs.ravel(), res["traces"].items(), res["settings"]["velocities"]):
+        _step_axes(ax, {"actual (velocity PI)": tr}, v, f"Fig. 13: {k}")
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_fig14(res: dict, path: Path):
+    plt = _plt()
+    fig, axs = plt.subplots(1, 2, figsize=(12, 4.2))
+    for ax, (k, tr) in zip(axs, res["traces"].items()):
+        _step_axes(ax, {k: tr}, res["settings"]["v_deg_s"], f"Fig. 14: {k}")
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_fig15(res: dict, path: Path):
+    plt = _plt()
+    fig, axs = plt.subplots(2, 2, figsize=(11, 7))
+    for row, (k, tr) in enumerate(res["traces"].items()):
+        _sine_axes(axs[row, 0], axs[row, 1], tr, k)
+        axs[row, 0].set_title(f"Fig. 15: {k} (friction drifted x{res['settings']['friction_drift']})", fontsize=10)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+def plot_beyond(res: dict, path: Path):
+    plt = _plt()
+    fig, axs = plt.subplots(1, 2, figsize=(12, 4.2))
+    v = res["settings"]["v_deg_s"]
+    _step_axes(axs[0], res["traces"], v, f"Beyond the paper: {v:g} deg/s", band=True)
+    for k, tr in res["traces"].items():
+        axs[1].plot(tr["t"], tr["omega"], lw=1, label=k)
+    axs[1].axhspan(v - BAND, v + BAND, color="grey", alpha=0.15, label="+-0.001 deg/s band")
+    axs[1].axhspan(0.9 * v, 1.1 * v, color="green", alpha=0.15, label="+-10% band")
+    axs[1].set_xlabel("t [s]")
+    axs[1].set_ylabel("velocity [deg/s]")
+    axs[1].legend(fontsize=7)
+    axs[1].grid(alpha=0.3)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+PLOTTERS = {"fig08": plot_fig08, "fig09": plot_fig09, "fig10": plot_fig10, "fig12": plot_fig12, "fig13": plot_fig13,
+            "fig14": plot_fig14, "fig15": plot_fig15, "beyond": plot_beyond}
+
+
+def save_traces_npz(res: dict, path: Path) -> None:
+    """Raw traces of a scenario as a compressed .npz (key ``<group>/<label>/<signal>``)."""
+    from ..io._atomic import atomic_path
+
+    flat = {}
+
+    def walk(prefix, d):
+        for k, v in d.items():
+            if isinstance(v, dict):
+                walk(f"{prefix}{k}/", v)
+            elif isinstance(v, np.ndarray):
+                flat[f"{prefix}{k}"] = v
+    walk("", res["traces"])
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez_compressed(fh, **flat)
+
+
+def load_traces_npz(path: Path) -> dict:
+    """Inverse of :func:`save_traces_npz`."""
+    out: dict = {}
+    with np.load(path) as z:
+        for key in z.files:
+            parts = key.split("/")
+            d = out
+            for p in parts[:-1]:
+                d = d.setdefault(p, {})
+            d[parts[-1]] = z[key]
+    return out

@@ -1,0 +1,309 @@
+"""The reproduction report: one row per figure/table of Li et al., Electronics 2020, 9, 284, with the
+paper's claim beside our measured number and a verdict (REPORT.md and report.json).
+
+Rows are produced by small functions registered in :data:`ROWS` (``fn(results, setup) -> dict or
+None``); other parts of the project (e.g. static identification: Table 1, Figs. 3b-6) can append
+their own. A row function returns None when its scenario was not run.
+"""
+
+from __future__ import annotations
+
+import datetime
+import platform
+from pathlib import Path
+
+import numpy as np
+
+from ..io import write_json
+from ..io._atomic import atomic_path
+
+
+def _f(x, nd=3):
+    if isinstance(x, str):
+        return x
+    if x is None or not np.isfinite(x):
+        return str(x)
+    if x == 0:
+        return "0"
+    if abs(x) >= 1e-2 and abs(x) < 1e4:
+        return f"{x:.{nd}g}"
+    return f"{x:.{nd - 1}e}"
+
+
+def _row(id_, claim, ours, verdict, why, data=None, figure=None):
+    return dict(id=id_, paper_claim=claim, ours=ours, verdict=verdict, why=why, data=data or {}, figure=figure)
+
+
+def row_table2(R, S):
+    t = R.get("table2")
+    if t is None:
+        return None
+    p, r1, r2 = t["paper"], t["route1_paper_method"], t["route2_time_series"]
+    Ji = t["J_implied_by_eq18"]
+    ours = (f"eq. 17 step ({S.presliding['step_nm']:g} N*m, {ENC:g}-deg encoder): sigma0 = {_f(r1[1]['sigma0'], 4)} "
+            f"(plant segment 1: {_f(S.presliding['truth_sigma0_segment1'], 4)}); step-size dependence "
+            + ", ".join(f"{k} N*m -> {_f(v, 3) if not isinstance(v, str) else 'breaks away'}" for k, v in t["presliding_steps"].items())
+            + f". eq. 18 sigma1 = {', '.join(_f(r1[k]['sigma1']) for k in (1, 2, 3))}. "
+            + ("Time-series LM: skipped (--quick). " if r2 is None else
+               f"Time-series LM (ramp, noise {t['recording']['noise_deg']:g} deg): " + "; ".join(
+                   f"seg {k}: sigma0 = {_f(r2[k]['sigma0'], 4)} +- {_f(r2[k]['sigma0_se'], 2)}, sigma1 = {_f(r2[k]['sigma1'], 3)} +- "
+                   f"{_f(r2[k]['sigma1_se'], 2)}" for k in (1, 2, 3)) + ". ")
+            + f"Eq. 18 on Table 2 implies J = {', '.join(_f(Ji[k], 4) for k in (1, 2, 3))}.")
+    why = ("A pre-sliding step only sees segment 1 (|v| ~ 0): it cannot give three sigma0 values. Steps above ~0.3 N*m "
+           "drive the velocity past the 0.05 deg/s segment edge and the estimate collapses toward segment 2's sigma0. "
+           "Segment-2/3 values need a recording in their velocity range (route 2). Table 2 is not self-consistent "
+           f"with eq. 18 (segment 2 implies J = {_f(Ji[2], 3)}, not 0.128).")
+    s0_err = abs(r1[1]["sigma0"] / S.presliding["truth_sigma0_segment1"] - 1)
+    verdict = f"segment 1 sigma0 reproduced by eq. 17 ({s0_err:.1%} error)"
+    if r2 is not None:
+        rel = {k: r2[k]["sigma1_se"] / max(abs(r2[k]["sigma1"]), 1e-12) for k in (1, 2, 3)}
+        verdict += "; time series: sigma1 relative SE " + ", ".join(f"{rel[k]:.0%}" for k in (1, 2, 3))
+    return _row("Table 2", "sigma0 = 111.3, 29.94, 90.41 N*m/deg; sigma1 = 2.304, 0.3095, 4.761 N*m*s/deg (3 segments), "
+                "from a pre-sliding step (eq. 17) and eq. 18", ours, verdict, why, t)
+
+
+ENC = 1e-4
+
+
+def row_fig08(R, S):
+    r = R.get("fig08")
+    if r is None:
+        return None
+    c = r["metrics"]["PID cascade (position + velocity)"]
+    v = r["metrics"]["PID velocity loop only (Fig. 9c)"]
+    ours = (f"cascade: dead zone {_f(c['dead_zone_s'])} s, creep amplitude {_f(c['creep_amplitude_deg'])} deg, "
+            f"inside the +-0.001 deg/s cone {c['cone_fraction']:.0%} of the time; velocity loop alone: dead zone "
+            f"{_f(v['dead_zone_s'])} s, creep {_f(v['creep_amplitude_deg'])} deg")
+    verdict = "not reproduced" if c["creep_amplitude_deg"] < v["creep_amplitude_deg"] else "reproduced"
+    why = ("We follow the text (both loops closed). The position loop's integral action removes the lag the velocity "
+           "PI must build against ~6.4 N*m of friction, so the cascade is *better* than Fig. 9c, the opposite of the "
+           "paper's remark that Fig. 9c is 'a bit better than the open-loop control in Fig. 8'. No stick-slip appears: "
+           "with Table 2's sigma0 the pre-sliding range is Fs/sigma0 = 0.058 deg, and the PI's stiffness keeps the "
+           "joint sliding smoothly once it breaks away.")
+    return _row("Fig. 8", "0.005 deg/s step, position and velocity loops closed: errors and serious creeping",
+                ours, verdict, why, r["metrics"], "fig08.png")
+
+
+def row_fig09ab(R, S):
+    r = R.get("fig09")
+    if r is None:
+        return None
+    m = r["metrics"]["sine"]["PID"]
+    at_rev = m["speed_at_max_error_frac"] < 0.2
+    ours = (f"PID (cascade) RMS error {_f(m['rms_error_deg'])} deg, max {_f(m['max_error_deg'])} deg (amplitude 3 deg); "
+            f"the maximum occurs where |v_ref| is {m['speed_at_max_error_frac']:.0%} of its peak")
+    return _row("Fig. 9a-b", "PID tracking of 3 sin(0.8 pi t) shows a small deviation and a large position error at the "
+                "peaks (velocity reversals)", ours,
+                "reproduced (the paper gives no number)" if at_rev else "partly: error not largest at the reversals",
+                "At a reversal the friction torque flips sign (~2 x 6.4 N*m) within the pre-sliding range, and the PI "
+                "must rebuild it through its error." if at_rev else
+                "The largest error is not at the reversals: the inertia and viscous torque at peak velocity dominate.",
+                m, "fig09.png")
+
+
+def row_fig09c(R, S):
+    r = R.get("fig09")
+    if r is None:
+        return None
+    m = r["metrics"]["step"]["PID"]
+    ours = (f"dead zone {_f(m['dead_zone_s'])} s (ki = {_f(S.ki, 4)} N*m/deg was chosen to give 2 s: this row is the "
+            f"calibration, not a test); creep amplitude {_f(m['creep_amplitude_deg'])} deg")
+    return _row("Fig. 9c", "velocity PID, 0.005 deg/s: creeping and a 2 s dead zone", ours, "calibrated",
+                "The dead zone of a PI velocity loop is the residual friction / (ki * v): ~6.36 N*m / (ki * 0.005 deg/s).",
+                m, "fig09.png")
+
+
+def row_fig10ab(R, S):
+    r, p = R.get("fig10"), R.get("fig09")
+    if r is None or p is None:
+        return None
+    c, q = r["metrics"]["sine"]["GA-PSO piecewise"], p["metrics"]["sine"]["PID"]
+    ratio = c["rms_error_deg"] / q["rms_error_deg"]
+    ours = (f"compensated RMS {_f(c['rms_error_deg'])} deg (max {_f(c['max_error_deg'])}) vs PID {_f(q['rms_error_deg'])} "
+            f"deg (max {_f(q['max_error_deg'])}): {ratio:.2f}x")
+    return _row("Fig. 10a-b", "GA-PSO piecewise compensation: sine tracking obviously better, position error greatly "
+                "decreased vs PID", ours, "reproduced" if ratio < 0.5 else ("partly" if ratio < 1 else "not reproduced"),
+                "The observer supplies the friction torque the PI would otherwise have to build through its error.",
+                dict(compensated=c, pid=q), "fig10.png")
+
+
+def row_fig10c(R, S):
+    r = R.get("fig10")
+    if r is None:
+        return None
+    m = r["metrics"]["step"]
+    dz = {k: v["dead_zone_s"] for k, v in m.items()}
+    ours = "; ".join(f"{k}: {_f(v)} s" for k, v in dz.items())
+    rms = {k: v["rms_nm"] for k, v in S.static_params.items()}
+    claim_ok = dz["GA-PSO piecewise"] < 1.0 and dz["PSO whole"] > 1.5 and dz["GA whole"] > 1.5
+    verdict = "reproduced" if claim_ok else ("partly: GA-PSO < 1 s reproduced" if dz["GA-PSO piecewise"] < 1.0 else "not reproduced")
+    why = ("Dead zone = residual friction at 0.005 deg/s / (ki v). It follows how well each identified curve matches the "
+           "plant near 0 deg/s, i.e. the optimiser's final loss (static-fit RMS: "
+           + ", ".join(f"{k} {_f(v)} N*m" for k, v in rms.items())
+           + "), not the algorithm's name: a PSO or GA run that converges gives the same curve as GA-PSO (whole). "
+           "One run per method, as in the paper; see the PSO/GA seeds row.")
+    return _row("Fig. 10c", "0.005 deg/s step, compensated: PSO- and GA-identified (whole) still ~2 s dead zone; GA-PSO "
+                "(piecewise) under 1 s", ours, verdict, why, m, "fig10.png")
+
+
+def row_fig12(R, S):
+    r = R.get("fig12")
+    if r is None:
+        return None
+    m = r["metrics"]
+    parts = []
+    for k in ("GA-PSO whole", "GA-PSO piecewise", "PID (no compensation)"):
+        parts.append(f"{k}: max |velocity error| near 0.05 = {_f(m[k]['near 0.05 deg/s']['max_abs_velocity_error_deg_s'])}, "
+                     f"near 1.2 = {_f(m[k]['near 1.2 deg/s']['max_abs_velocity_error_deg_s'])} deg/s")
+    w, p = m["GA-PSO whole"], m["GA-PSO piecewise"]
+    better = (p["near 0.05 deg/s"]["max_abs_velocity_error_deg_s"] < w["near 0.05 deg/s"]["max_abs_velocity_error_deg_s"]
+              and p["near 1.2 deg/s"]["max_abs_velocity_error_deg_s"] < w["near 1.2 deg/s"]["max_abs_velocity_error_deg_s"])
+    why = ("The bulge appears with the *piecewise* model, at 1.2 deg/s: identified segment 2 carries its torque in "
+           "sigma2*v (Fc ~0.9 N*m + ~3.6 N*m viscous), segment 3 in the bristle state (Fc ~4.5 N*m, sigma2 ~0). In the "
+           "blend band (1.08-1.32 deg/s) the two give different estimates for the same observer state, so the "
+           "blended estimate rises steeply with velocity -- negative damping against kp -- and the joint oscillates. "
+           "Checked with dt = 0.5 ms and the adaptive Kvaerno5 solver (same 0.279 deg/s): not a numerical artefact. "
+           "A single whole curve has no switch; near 0.05 deg/s both are small.")
+    return _row("Fig. 12", "ramp 0 -> 1.5 deg/s in 4 s: whole identification gives bulges near 0.05 and 1.2 deg/s; "
+                "piecewise none", "; ".join(parts), "reproduced" if better else "not reproduced", why, m, "fig12.png")
+
+
+def row_fig13(R, S):
+    r = R.get("fig13")
+    if r is None:
+        return None
+    m = r["metrics"]
+    ours = "; ".join(f"{k}: dead zone {_f(v['dead_zone_s'])} s, creep {_f(v['creep_amplitude_deg'])} deg, in cone "
+                     f"{v['cone_fraction']:.0%}, |v error| <= 0.001 in 2nd half {v['band_fraction_second_half']:.0%}, "
+                     f"within +-10% {v['rel_band10_fraction_second_half']:.0%}" for k, v in m.items())
+    dzs = [v["dead_zone_s"] for v in m.values()]
+    mono = all(a <= b for a, b in zip(dzs, dzs[1:]))
+    why = ("The lag grows as velocity falls (dead zone ~ F(v)/(ki v)), as the paper says; but there is no "
+           "'crawling and jumping': after breakaway the PI holds a smooth slide. At 0.001 deg/s the joint stays in "
+           "pre-sliding for the whole record (0.03 deg < Fs/sigma0 = 0.058 deg). The +-0.001 deg/s band is met even "
+           "without compensation at 0.001 deg/s because it contains 0; the +-10% column is the stricter test.")
+    return _row("Fig. 13", "velocity PID at 0.1, 0.01, 0.005, 0.001 deg/s: good at 0.1; creep grows as velocity falls; "
+                "spec: 0.005 deg/s within +-0.001 deg/s", ours, "partly" if mono else "not reproduced", why, m, "fig13.png")
+
+
+def row_fig14(R, S):
+    r = R.get("fig14")
+    if r is None:
+        return None
+    m = r["metrics"]
+    g, p = m["GA whole"], m["GA-PSO piecewise"]
+    ours = (f"GA whole: dead zone {_f(g['dead_zone_s'])} s, creep {_f(g['creep_amplitude_deg'])} deg; GA-PSO piecewise: "
+            f"dead zone {_f(p['dead_zone_s'])} s, creep {_f(p['creep_amplitude_deg'])} deg")
+    ok = p["dead_zone_s"] < g["dead_zone_s"]
+    return _row("Fig. 14", "0.005 deg/s: GA (whole) compensation still a large dead zone; GA-PSO (piecewise) suppresses "
+                "creep and the dead zone", ours, "reproduced" if ok else "not reproduced",
+                "Same mechanism as Fig. 10c: residual friction at 0.005 deg/s. Simulated, not hardware.", m, "fig14.png")
+
+
+def row_fig15(R, S):
+    r = R.get("fig15")
+    if r is None:
+        return None
+    m = r["metrics"]
+    ratio = m["GA-PSO piecewise"]["rms_error_deg"] / m["PID"]["rms_error_deg"]
+    ours = (f"on a joint with +{(r['settings']['friction_drift'] - 1):.0%} friction drift: PID RMS {_f(m['PID']['rms_error_deg'])} deg, "
+            f"compensated {_f(m['GA-PSO piecewise']['rms_error_deg'])} deg ({ratio:.2f}x)")
+    return _row("Fig. 15", "experiment: compensation (GA-PSO piecewise) tracks the sine better than PID", ours,
+                "reproduced" if ratio < 1 else "not reproduced",
+                "No hardware: a drifted plant stands in for the experiment; the ranking survives a 10% model error.", m, "fig15.png")
+
+
+def row_beyond(R, S):
+    r = R.get("beyond")
+    if r is None:
+        return None
+    m = r["metrics"]
+    ours = "; ".join(f"{k}: dead zone {_f(v['dead_zone_s'])} s, |v error| <= 0.001 {v['band_fraction']:.0%}, within "
+                     f"+-10% in 2nd half {v['rel_band10_fraction_second_half']:.0%}" for k, v in m.items())
+    best = min((abs(v["dead_zone_s"]), k) for k, v in m.items() if "PID" not in k)
+    why = ("The paper's +-0.001 deg/s band around 0.001 deg/s includes standing still, so it is met trivially (also by PID). "
+           "The informative test is +-10%: PID fails it (the joint creeps in pre-sliding at ki/(ki+sigma0) of the "
+           f"command), the best compensation ({best[1]}) passes with a {_f(m[best[1]]['dead_zone_s'])} s dead zone. What limits it is the "
+           "identified curve's error near 0 deg/s (static-fit loss), not the observer.")
+    return _row("Beyond: 0.001 deg/s", "(not in the paper: its spec is met only at 0.005 deg/s)", ours,
+                "compensation holds 0.001 deg/s", why, m, "beyond.png")
+
+
+def row_design(R, S):
+    d = R.get("design")
+    if d is None:
+        return None
+    f = d["fit_on_best"]
+    w = d["worst"]
+    ours = (f"D-optimal torque sine: {d['best']['amplitude_nm']:g} N*m at {d['best']['frequency_hz']:g} Hz; fit there: "
+            f"sigma0 = {_f(f['estimate'][0], 4)} +- {_f(f['se'][0], 2)}, sigma1 = {_f(f['estimate'][1], 3)} +- {_f(f['se'][1], 2)} "
+            f"(truth {_f(d['truth'][0], 4)}, {_f(d['truth'][1], 4)}). Worst grid point ({w['amplitude_nm']:g} N*m, "
+            f"{w['frequency_hz']:g} Hz): relative SE sigma0 {w['relative_se_sigma0']:.0%}, sigma1 {w['relative_se_sigma1']:.0%}")
+    return _row("Dynamic identification (sec. 4.2.5, beyond)", "sigma1 'estimated approximately' by eq. 18; no uncertainty given",
+                ours, "sigma0 and sigma1 identifiable with the designed excitation",
+                "Slow or tiny excitations leave sigma1 undetermined (Fisher information ~0); near the pre-sliding resonance "
+                "sqrt(sigma0/J) ~ 4.7 Hz both are determined.", d, "excitation_design.png")
+
+
+def row_seeds(R, S):
+    s = R.get("seeds")
+    if s is None:
+        return None
+    ours = "; ".join(f"{k}: dead zone over {len(v)} seeds = " + ", ".join(_f(x) for x in v) + " s" for k, v in s.items())
+    return _row("Fig. 10c seeds (beyond)", "one identification per method", ours, "seed-dependent",
+                "PSO and GA sometimes stop at poor optima (premature convergence, as the paper says); when they converge "
+                "their compensation is as good as GA-PSO's.", s)
+
+
+ROWS = [row_table2, row_fig08, row_fig09ab, row_fig09c, row_fig10ab, row_fig10c, row_seeds, row_fig12, row_fig13,
+        row_fig14, row_fig15, row_beyond, row_design]
+
+
+def build_rows(results: dict, setup) -> list[dict]:
+    rows = []
+    for fn in ROWS:
+        r = fn(results, setup)
+        if r is not None:
+            rows.append(r)
+    return rows
+
+
+def write_report(out: Path, rows: list[dict], setup, timings: dict, quick: bool) -> None:
+    out = Path(out)
+    meta = dict(generated_utc=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+                python=platform.python_version(), quick=quick, timings_s=timings)
+    write_json(out / "report.json", dict(meta=meta, setup=setup.as_dict(), rows=rows))
+    g = setup.as_dict()["gains"]
+    lines = [
+        "# Reproduction of Li et al., Electronics 2020, 9, 284 (Figs. 8-15, Table 2)",
+        "",
+        f"Generated {meta['generated_utc']}{' (--quick: reduced settings, numbers are indicative only)' if quick else ''}. "
+        "Every number below is from a simulation; the paper's robot data are not public.",
+        "",
+        "**Set-up.** Real joint = the paper's own Tables 1-2 model (3 LuGre segments, J = 0.128 N*m*s^2/deg). "
+        "Compensators use models *identified* from noisy steady-state data (`data/stribeck_paper_like.csv`) by the "
+        "paper's optimisers, sigma0 from a simulated pre-sliding step read through a "
+        f"{ENC:g}-deg encoder (eq. 17), sigma1 from eq. 18. Gains: kp = {_f(g['kp'])} N*m*s/deg (assumed ~10 Hz velocity "
+        f"loop), ki = {_f(g['ki'], 4)} N*m/deg (grid-calibrated so the uncompensated dead zone at 0.005 deg/s is the paper's "
+        f"2 s), kpp = {_f(g['kpp'])} 1/s (cascade rule (kp/J)/4), observer k = {_f(g['k_obs'])}, J_ff = {_f(g['J_ff'])}.",
+        "",
+        "**Metrics** (`lugre_jax.metrics`): dead zone = mean horizontal lag of the position curve behind the ideal ramp "
+        "over the last 25% of a 30 s record [s]; creep amplitude = peak-to-peak of the detrended position error over the "
+        "second half [deg]; cone = fraction of time the position lies between (v +- 0.001)*t (the paper's Fig. 13 "
+        "boundary lines); band = fraction of samples with |omega - v| <= 0.001 deg/s.",
+        "",
+        "| Figure/Table | Paper's claim | Ours (measured) | Verdict | Why |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rows:
+        fig = f" ([png]({r['figure']}))" if r.get("figure") else ""
+        cells = [r["id"] + fig, r["paper_claim"], r["ours"], r["verdict"], r["why"]]
+        lines.append("| " + " | ".join(c.replace("|", "/").replace("\n", " ") for c in cells) + " |")
+    lines += ["", "Identified static models (RMS against the averaged data):", ""]
+    for k, v in setup.static_params.items():
+        segs = "; ".join(f"[{s['v_range'][0]:g}, {s['v_range'][1]:g}] Fc={_f(s['Fc'])} Fs={_f(s['Fs'])} vs={_f(s['vs'])} "
+                         f"sigma2={_f(s['sigma2'])} sigma0={_f(s['sigma0'], 4)} sigma1={_f(s['sigma1'])}" for s in v["segments"])
+        lines.append(f"- {k} (RMS {_f(v['rms_nm'])} N*m): {segs}")
+    lines += ["", "Wall time per stage [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in timings.items()), ""]
+    with atomic_path(out / "REPORT.md") as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
