@@ -41,7 +41,7 @@ from .._params import bounds_of
 from .._types import PRNGKeyArray
 from ..friction import CoulombViscous, Segmented, Stribeck
 from ..io._stribeck_data import StribeckData
-from ._smoothing import SmoothingSpline, SumOfSines, TangentBranch, fit_smoothing_spline, fit_sum_of_sines, fit_tangent_branch
+from ._smoothing import SmoothingSpline, TangentBranch, fit_smoothing_spline, fit_sum_of_sines, fit_tangent_branch
 from ._uncertainty import Uncertainty, standard_errors
 
 Kind = Literal["stribeck", "coulomb_viscous"]
