@@ -89,6 +89,15 @@ def run(args) -> int:
             raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}") from None
         if len(edges) != 2:
             raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}")
+    if args.bounds in ("paper", "", None):
+        import sys
+
+        import numpy as np
+
+        vmax, tmax = float(np.max(np.abs(data.velocity))), float(np.max(np.abs(data.torque)))
+        if vmax > 10.0 or tmax < 1e-2:
+            print(f"lugre-jax identify: note: the data span up to {vmax:.4g} deg/s and {tmax:.4g} N*m, far from the "
+                  "paper's ranges (vs in [0, 1] deg/s, Fc, Fs in [0, 10] N*m); consider --bounds auto", file=sys.stderr)
     kw = dict(key=jax.random.key(args.seed), n_seeds=args.seeds, refine=args.refine, bounds=args.bounds)
     if args.scheme == "piecewise":
         if args.model != "stribeck":
