@@ -1,3 +1,32 @@
-"""Input/output: atomic writers, data loaders (Stribeck CSV, EPOS exports, EMPS .mat, recordings)."""
+"""Input/output: atomic writers, scenario JSON, Stribeck CSV, EPOS exports, EMPS .mat, recordings.
 
-from ._atomic import atomic_path as atomic_path, save_figure as save_figure, write_csv as write_csv, write_json as write_json
+Every loader reports a malformed file by path and line (and column where it applies); every writer
+is atomic (temporary file, then rename).
+"""
+
+from ._atomic import (
+    atomic_path as atomic_path,
+    save_figure as save_figure,
+    write_csv as write_csv,
+    write_json as write_json,
+)
+from ._emps import default_emps_path as default_emps_path, load_emps as load_emps
+from ._epos import (
+    TRO2021_NOMINAL_TORQUE_NM as TRO2021_NOMINAL_TORQUE_NM,
+    EposRecording as EposRecording,
+    load_epos_file as load_epos_file,
+    load_epos_steady_state as load_epos_steady_state,
+    load_friction_data as load_friction_data,
+)
+from ._recording import (
+    Recording as Recording,
+    load_recording as load_recording,
+    recording_from_arrays as recording_from_arrays,
+    write_recording as write_recording,
+)
+from ._scenario import ScenarioError as ScenarioError, load_scenario as load_scenario, scenario_from_dict as scenario_from_dict
+from ._stribeck_data import (
+    StribeckData as StribeckData,
+    load_stribeck_csv as load_stribeck_csv,
+    summarise_samples as summarise_samples,
+)
