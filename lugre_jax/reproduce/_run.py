@@ -108,6 +108,10 @@ def run_all(out, *, quick: bool = False, data_path=None, only=None, seeds: int |
             write_json(out / f"{name}.json", r)
             if name == "design":
                 plot_design(r, out / "excitation_design.png")
+            else:
+                from ._experiment import plot_table2
+
+                plot_table2(r, out / "table2.png")
         timings[name] = time.perf_counter() - t
     rows = build_rows(results, setup)
     write_report(out, rows, setup, timings, quick)

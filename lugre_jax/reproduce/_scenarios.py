@@ -99,8 +99,12 @@ def sine_metrics(tr: dict) -> dict:
     m = tr["t"] >= SINE_DURATION / 2 - 1e-12
     i = int(np.argmax(np.abs(tr["theta_ref"][m] - tr["theta"][m])))
     frac = float(abs(tr["v_ref"][m][i]) / np.max(np.abs(tr["v_ref"])))
+    t_max = float(tr["t"][m][i])
+    flips = tr["t"][1:][np.sign(tr["v_ref"][1:]) != np.sign(tr["v_ref"][:-1])]
+    before = flips[flips <= t_max]
+    delay = float(t_max - before[-1]) if before.size else float("nan")
     return dict(rms_error_deg=float(e["rms_deg"]), max_error_deg=float(e["max_abs_deg"]), speed_at_max_error_frac=frac,
-                t_max_error_s=float(tr["t"][m][i]))
+                t_max_error_s=t_max, delay_after_reversal_s=delay)
 
 
 def _step(setup: Setup, controllers: dict, v: float = STEP_V, duration: float = STEP_DURATION_S, hz: float = 20.0):

@@ -62,7 +62,7 @@ def table2(setup: Setup, *, quick: bool = False, key=None) -> dict:
         return dict(common, route2_time_series=None, fit=None, recording=None)
 
     # Route 2: LM through the simulator on a noisy ramp recording, 6 parameters
-    duration, hz = 5.0, 200.0
+    duration, hz = 5.0, 100.0
 
     def build6(p):
         fr = plant
@@ -85,7 +85,7 @@ def table2(setup: Setup, *, quick: bool = False, key=None) -> dict:
 
 
 DESIGN_AMPS = (0.02, 0.1, 0.5, 2.0)
-DESIGN_FREQS = (0.2, 1.0, 3.0, 10.0)
+DESIGN_FREQS = (0.2, 1.0, 3.0, 10.0, 20.0)
 
 
 def excitation_design(setup: Setup, *, quick: bool = False, key=None) -> dict:
@@ -96,7 +96,7 @@ def excitation_design(setup: Setup, *, quick: bool = False, key=None) -> dict:
     nominal = [float(setup.presliding["sigma0_nm_per_deg"]),
                float(sigma1_eq18(J, setup.presliding["sigma0_nm_per_deg"], setup.static_params["GA-PSO piecewise"]["segments"][0]["sigma2"]))]
     nominal[1] = max(nominal[1], 0.1)
-    duration, hz = (1.0, 100.0) if quick else (2.0, 200.0)
+    duration, hz = (1.0, 100.0) if quick else (2.0, 100.0)
     grid = np.array([(a, f) for a in DESIGN_AMPS for f in DESIGN_FREQS if f <= hz / 4])
 
     def build_exc(p, e):

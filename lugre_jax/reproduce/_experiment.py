@@ -1,0 +1,95 @@
+"""Shared driver of the per-figure experiment folders (experiments/figNN_*/run.py and plot.py): one
+scenario of :mod:`lugre_jax.reproduce` with raw results written to ``--out`` and a plot read back
+from them. Li et al., Electronics 2020, 9, 284."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..io import write_json
+
+
+def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
+    """``run.py``: build (or load) the shared set-up, run scenario ``name``, write ``NAME.json`` (+ traces)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default=str(default_out), help="results folder (default: %(default)s)")
+    ap.add_argument("--data", default=None, help="Stribeck CSV to identify from (default data/stribeck_paper_like.csv)")
+    ap.add_argument("--setup-cache", default=None,
+                    help="set-up JSON to load if present, else write (default: OUT/setup.json). Point it at the "
+                         "setup.json of a `lugre-jax reproduce` run to share one identification across folders")
+    ap.add_argument("--quick", action="store_true", help="reduced optimiser settings")
+    a = ap.parse_args(argv)
+    from ._plots import save_traces_npz
+    from ._run import SCENARIOS, seed_study
+    from ._setup import build_setup
+    from ._table2 import excitation_design, table2
+
+    out = Path(a.out)
+    cache = Path(a.setup_cache) if a.setup_cache else out / "setup.json"
+    setup = build_setup(a.data, quick=a.quick, cache=cache)
+    if name in SCENARIOS:
+        r = SCENARIOS[name](setup)
+        write_json(out / f"{name}.json", dict(metrics=r["metrics"], settings=r["settings"], setup=setup.as_dict()))
+        save_traces_npz(r, out / f"{name}_traces.npz")
+        print(json.dumps(r["metrics"], indent=1, default=float))
+    elif name in ("table2", "design"):
+        r = (table2 if name == "table2" else excitation_design)(setup, quick=a.quick)
+        write_json(out / f"{name}.json", r)
+        print(json.dumps({k: v for k, v in r.items() if k not in ("grid",)}, indent=1, default=str)[:4000])
+    elif name == "seeds":
+        r = seed_study(setup, a.data)
+        write_json(out / "seeds.json", r)
+        print(r)
+    else:
+        raise ValueError(f"unknown experiment {name!r}")
+    print(f"wrote {out}")
+
+
+def plot_main(name: str, default_out: Path, argv=None) -> None:
+    """``plot.py``: read the raw results of ``name`` from ``--out`` and write ``NAME.png`` there."""
+    ap = argparse.ArgumentParser(description=f"plot {name} from its raw results")
+    ap.add_argument("--out", default=str(default_out))
+    a = ap.parse_args(argv)
+    out = Path(a.out)
+    from ._plots import PLOTTERS, load_traces_npz
+    from ._run import plot_design
+
+    if name == "design":
+        plot_design(json.loads((out / "design.json").read_text()), out / "excitation_design.png")
+    elif name == "table2":
+        plot_table2(json.loads((out / "table2.json").read_text()), out / "table2.png")
+    else:
+        meta = json.loads((out / f"{name}.json").read_text())
+        res = dict(traces=load_traces_npz(out / f"{name}_traces.npz"), metrics=meta["metrics"], settings=meta["settings"])
+        png = "beyond" if name == "beyond" else name
+        PLOTTERS[name](res, out / f"{png}.png")
+    print(f"wrote {out}")
+
+
+def plot_table2(t: dict, path: Path) -> None:
+    """Table 2 bars: paper, eq. 17/18 route and time-series fit (+-1 SE), sigma0 and sigma1 per segment."""
+    import numpy as np
+
+    from ..io._atomic import save_figure
+    from ._plots import _plt
+
+    plt = _plt()
+    fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+    ks = ["1", "2", "3"]
+    for ax, par in zip(axs, ("sigma0", "sigma1")):
+        x = np.arange(3)
+        ax.bar(x - 0.27, [t["paper"][k][par] for k in ks], 0.27, label="paper Table 2")
+        ax.bar(x, [t["route1_paper_method"][k][par] for k in ks], 0.27, label="eq. 17 step + eq. 18")
+        r2 = t.get("route2_time_series")
+        if r2:
+            ax.bar(x + 0.27, [r2[k][par] for k in ks], 0.27, yerr=[r2[k][par + "_se"] for k in ks], capsize=3,
+                   label="time-series LM +- SE")
+        ax.set_xticks(x, [f"segment {k}" for k in ks])
+        ax.set_ylabel(par + (" [N*m/deg]" if par == "sigma0" else " [N*m*s/deg]"))
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
