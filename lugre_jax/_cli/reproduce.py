@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import argparse
 
-CHOICES = ("fig08", "fig09", "fig10", "fig12", "fig13", "fig14", "fig15", "beyond", "table2", "design")
+CHOICES = ("fig08", "fig09", "fig10", "fig12", "fig13", "fig14", "fig15", "beyond", "creep", "table2", "design")
 
 
 def add_parser(subparsers) -> None:

@@ -16,7 +16,7 @@ from ._report import build_rows, write_report
 from ._setup import MODELS, STEP_V, Setup, build_setup
 
 SCENARIOS = {"fig08": sc.fig08, "fig09": sc.fig09, "fig10": sc.fig10, "fig12": sc.fig12, "fig13": sc.fig13,
-             "fig14": sc.fig14, "fig15": sc.fig15, "beyond": sc.beyond}
+             "fig14": sc.fig14, "fig15": sc.fig15, "beyond": sc.beyond, "creep": sc.creep_search}
 
 
 def seed_study(setup: Setup, data_path=None, n_seeds: int = 3) -> dict:
@@ -100,8 +100,10 @@ def run_all(out, *, quick: bool = False, data_path=None, only=None, seeds: int |
             r = fn(setup)
             results[name] = r
             write_json(out / f"{name}.json", dict(metrics=r["metrics"], settings=r["settings"]))
-            save_traces_npz(r, out / f"{name}_traces.npz")
-            PLOTTERS[name](r, out / f"{name}.png")
+            if r["traces"]:
+                save_traces_npz(r, out / f"{name}_traces.npz")
+            if name in PLOTTERS:
+                PLOTTERS[name](r, out / f"{name}.png")
         else:
             r = fn(setup, quick=quick)
             results[name] = r

@@ -25,7 +25,7 @@ import numpy as np
 
 from .. import metrics as M
 from .._simulate import System, simulate, stack_systems
-from ..control import PositionSine, VelocityRamp, VelocitySteps
+from ..control import PositionSine, VelocityPID, VelocityRamp, VelocitySteps
 from ..friction import LuGre, Segmented
 from ..plant import Joint
 from ._setup import STEP_DURATION_S, STEP_V, Setup
@@ -218,3 +218,27 @@ def beyond(setup: Setup) -> dict:
     ctrls.update({k: setup.compensated(k) for k in setup.observers})
     traces, met = _step(setup, ctrls, v=BEYOND_V)
     return dict(traces=traces, metrics=met, settings=dict(v_deg_s=BEYOND_V, band=BAND))
+
+
+CREEP_KP = (0.5, 2.0, 8.0, 32.0)
+CREEP_KI = (3.0, 10.0, 30.0, 100.0, 560.0)
+
+
+def creep_search(setup: Setup, v: float = STEP_V, duration_s: float = 120.0) -> dict:
+    """Beyond the paper: is there any velocity-PI gain that makes the paper's joint stick-slip at
+    ``v`` deg/s? One batched simulation over a kp x ki grid [N*m*s/deg x N*m/deg]; stick-slip is
+    flagged when the velocity overshoots the command by 20% (a slip phase) after moving."""
+    pairs = [(kp, ki) for kp in CREEP_KP for ki in CREEP_KI]
+    systems = [setup.system(VelocityPID(kp=kp, ki=ki), VelocitySteps([v])) for kp, ki in pairs]
+    sol = simulate(stack_systems(systems), duration_s, 10.0, batched=True)
+    if np.any(np.asarray(sol.result) != 0):
+        raise RuntimeError(f"creep search: lanes failed {np.asarray(sol.result)}")
+    t, th, om = np.asarray(sol.ts), np.asarray(sol.theta), np.asarray(sol.omega)
+    max_ratio = om.max(axis=1) / v
+    rows = [dict(kp=kp, ki=ki, max_velocity_over_command=float(r), final_position_deg=float(p),
+                 dead_zone_s=float(dz), creep_amplitude_deg=float(c), stick_slip=bool(r > 1.2))
+            for (kp, ki), r, p, dz, c in zip(pairs, max_ratio, th[:, -1], M.dead_zone_lag(t, th, v),
+                                             M.creep_amplitude(t, th, v * t, t_from=duration_s / 2))]
+    return dict(traces={}, metrics=dict(grid=rows, n_stick_slip=int(sum(r["stick_slip"] for r in rows)), n=len(rows)),
+                settings=dict(v_deg_s=v, duration_s=duration_s, kp=CREEP_KP, ki=CREEP_KI,
+                              presliding_range_deg=float(setup.plant.segments[0].Fs / setup.plant.segments[0].sigma0)))
