@@ -75,6 +75,11 @@ def plot_table2(t: dict, path: Path) -> None:
     from ..io._atomic import save_figure
     from ._plots import _plt
 
+    def norm(d):  # segment keys are ints in memory, strings after a JSON round trip
+        return None if d is None else {str(k): v for k, v in d.items()}
+
+    t = dict(t, paper=norm(t["paper"]), route1_paper_method=norm(t["route1_paper_method"]),
+             route2_time_series=norm(t.get("route2_time_series")))
     plt = _plt()
     fig, axs = plt.subplots(1, 2, figsize=(11, 4))
     ks = ["1", "2", "3"]
