@@ -11,6 +11,9 @@ Each run appends one JSON line to ``<out>/runs.jsonl`` (resumable; ``--shard i/n
 across processes). Usage::
 
     python experiments/diagnose_proof/run.py --out experiments/diagnose_proof/results [--shard 0/2]
+    # then, below the limit of the strong effects:
+    python experiments/diagnose_proof/run.py --strengths 0.0625,0.03125 --null-seeds "" \
+        --effects position_ripple,asymmetry,thermal_drift,stribeck_shape,backlash
 """
 
 from __future__ import annotations
@@ -39,10 +42,10 @@ KEY_PARAMS = {  # report key -> attribute of the true effect module
 }
 
 
-def jobs(strengths, seeds, null_seeds):
+def jobs(strengths, seeds, null_seeds, effects=EFFECTS):
     out = [("none", 0.0, s) for s in null_seeds]
     for st in strengths:
-        for eff in EFFECTS:
+        for eff in effects:
             for s in seeds:
                 out.append((eff, st, s))
     return out
@@ -82,6 +85,7 @@ def main():
     ap.add_argument("--null-seeds", default=",".join(str(100 + i) for i in range(24)))
     ap.add_argument("--duration", type=float, default=400.0)
     ap.add_argument("--shard", default="0/1", help="i/n: run every n-th job starting at i")
+    ap.add_argument("--effects", default=",".join(EFFECTS), help="comma-separated subset of effects")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -94,7 +98,8 @@ def main():
     i, n = (int(x) for x in a.shard.split("/"))
     todo = [j for k, j in enumerate(jobs([float(x) for x in a.strengths.split(",")],
                                          [int(x) for x in a.seeds.split(",")],
-                                         [int(x) for x in a.null_seeds.split(",")]))
+                                         [int(x) for x in a.null_seeds.split(",")] if a.null_seeds else [],
+                                         a.effects.split(",")))
             if k % n == i and j not in done]
     for effect, strength, seed in tqdm(todo, desc=f"diagnose proof shard {a.shard}"):
         row = one(effect, strength, seed, a.duration)

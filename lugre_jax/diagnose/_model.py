@@ -123,7 +123,7 @@ def data_scales(rec) -> dict[str, float]:
     return s
 
 
-def lugre_torque(f: LuGre, v, h, z0=None):
+def lugre_torque(f: LuGre, v: Float[Array, " n"], h: Float[Array, " n-1"], z0=None) -> Float[Array, " n"]:
     """LuGre torque along a measured velocity, exact-exponential bristle update (see module doc)."""
     g = f.g(v)
     if z0 is None:
@@ -318,7 +318,7 @@ def _parts(model, kin):
     return model.parts(kin)
 
 
-def predict(model: JointModel, kin: Kinematics) -> np.ndarray:
+def predict(model: JointModel, kin: Kinematics) -> Float[np.ndarray, " n"]:
     return np.asarray(_predict(model, kin))
 
 
