@@ -78,3 +78,13 @@ def test_reproduce_rejects_bad_only(tmp_path, capsys):
 
     assert main(["reproduce", "--out", str(tmp_path), "--only", "fig99"]) == 2
     assert "fig99" in capsys.readouterr().err
+
+
+def test_traces_npz_roundtrip_with_slash_labels(tmp_path):
+    from lugre_jax.reproduce._plots import load_traces_npz, save_traces_npz
+
+    tr = {"sine": {"0.1 deg/s": {"t": np.arange(3.0), "theta": np.ones(3)}}, "step": {"PID": {"t": np.zeros(2)}}}
+    save_traces_npz(dict(traces=tr), tmp_path / "x.npz")
+    back = load_traces_npz(tmp_path / "x.npz")
+    np.testing.assert_array_equal(back["sine"]["0.1 deg/s"]["theta"], np.ones(3))
+    np.testing.assert_array_equal(back["step"]["PID"]["t"], np.zeros(2))

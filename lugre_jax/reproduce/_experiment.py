@@ -32,8 +32,9 @@ def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
     if name in SCENARIOS:
         r = SCENARIOS[name](setup)
         write_json(out / f"{name}.json", dict(metrics=r["metrics"], settings=r["settings"], setup=setup.as_dict()))
-        save_traces_npz(r, out / f"{name}_traces.npz")
-        print(json.dumps(r["metrics"], indent=1, default=float))
+        if r["traces"]:
+            save_traces_npz(r, out / f"{name}_traces.npz")
+        print(json.dumps(r["metrics"], indent=1, default=float)[:4000])
     elif name in ("table2", "design"):
         r = (table2 if name == "table2" else excitation_design)(setup, quick=a.quick)
         write_json(out / f"{name}.json", r)
@@ -62,7 +63,8 @@ def plot_main(name: str, default_out: Path, argv=None) -> None:
         plot_table2(json.loads((out / "table2.json").read_text()), out / "table2.png")
     else:
         meta = json.loads((out / f"{name}.json").read_text())
-        res = dict(traces=load_traces_npz(out / f"{name}_traces.npz"), metrics=meta["metrics"], settings=meta["settings"])
+        npz = out / f"{name}_traces.npz"
+        res = dict(traces=load_traces_npz(npz) if npz.exists() else {}, metrics=meta["metrics"], settings=meta["settings"])
         png = "beyond" if name == "beyond" else name
         PLOTTERS[name](res, out / f"{png}.png")
     print(f"wrote {out}")

@@ -160,8 +160,11 @@ PLOTTERS = {"fig08": plot_fig08, "fig09": plot_fig09, "fig10": plot_fig10, "fig1
             "fig14": plot_fig14, "fig15": plot_fig15, "beyond": plot_beyond}
 
 
+SEP = "::"
+
+
 def save_traces_npz(res: dict, path: Path) -> None:
-    """Raw traces of a scenario as a compressed .npz (key ``<group>/<label>/<signal>``)."""
+    """Raw traces of a scenario as a compressed .npz (key ``<group>::<label>::<signal>``; labels may hold '/')."""
     from ..io._atomic import atomic_path
 
     flat = {}
@@ -169,7 +172,7 @@ def save_traces_npz(res: dict, path: Path) -> None:
     def walk(prefix, d):
         for k, v in d.items():
             if isinstance(v, dict):
-                walk(f"{prefix}{k}/", v)
+                walk(f"{prefix}{k}{SEP}", v)
             elif isinstance(v, np.ndarray):
                 flat[f"{prefix}{k}"] = v
     walk("", res["traces"])
@@ -183,9 +186,36 @@ def load_traces_npz(path: Path) -> dict:
     out: dict = {}
     with np.load(path) as z:
         for key in z.files:
-            parts = key.split("/")
+            parts = key.split(SEP)
             d = out
             for p in parts[:-1]:
                 d = d.setdefault(p, {})
             d[parts[-1]] = z[key]
     return out
+
+
+def plot_creep(res: dict, path: Path):
+    """Creep search: dead zone and creep amplitude over the velocity-PI gain grid."""
+    plt = _plt()
+    g = res["metrics"]["grid"]
+    kps, kis = sorted({r["kp"] for r in g}), sorted({r["ki"] for r in g})
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4))
+    for ax, key, title in zip(axs, ("max_velocity_over_command", "dead_zone_s", "creep_amplitude_deg"),
+                              ("max velocity / command", "dead zone [s] (log10)", "creep amplitude [deg] (log10)")):
+        Z = np.full((len(kps), len(kis)), np.nan)
+        for r in g:
+            val = r[key]
+            Z[kps.index(r["kp"]), kis.index(r["ki"])] = val if key.startswith("max") else np.log10(max(abs(val), 1e-12))
+        im = ax.imshow(Z, origin="lower", aspect="auto")
+        ax.set_xticks(range(len(kis)), [f"{k:g}" for k in kis])
+        ax.set_yticks(range(len(kps)), [f"{k:g}" for k in kps])
+        ax.set_xlabel("ki [N*m/deg]")
+        ax.set_ylabel("kp [N*m*s/deg]")
+        ax.set_title(f"{title}, {res['settings']['v_deg_s']:g} deg/s", fontsize=10)
+        fig.colorbar(im, ax=ax)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
+PLOTTERS["creep"] = plot_creep
