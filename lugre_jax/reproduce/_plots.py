@@ -82,7 +82,7 @@ def plot_fig10(res: dict, path: Path):
 
 def plot_fig12(res: dict, path: Path):
     plt = _plt()
-    labels = [k for k in res["traces"] if "PID" not in k]
+    labels = [k for k in res["traces"] if "PID" not in k and "sigma1 = 0" not in k]
     fig, axs = plt.subplots(2, len(labels), figsize=(6 * len(labels), 7), squeeze=False)
     for j, k in enumerate(labels):
         tr = res["traces"][k]

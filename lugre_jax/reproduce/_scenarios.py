@@ -155,8 +155,12 @@ RAMP_WINDOWS = {"near 0.05 deg/s": (0.025, 0.1), "near 1.2 deg/s": (1.05, 1.35)}
 def fig12(setup: Setup) -> dict:
     """Fig. 12: velocity ramp 0 -> 1.5 deg/s in 4 s, GA-PSO whole vs piecewise compensation (velocity
     loop); errors in windows around the minimum-torque (0.05) and critical Stribeck (1.2) velocities."""
-    ctrls = {"GA-PSO whole": setup.compensated("GA-PSO whole"), "GA-PSO piecewise": setup.compensated("GA-PSO piecewise"),
-             "PID (no compensation)": setup.velocity_pid()}
+    pw = setup.compensated("GA-PSO piecewise")
+    # Diagnostic lane: the same piecewise observer without the bristle damping sigma1 (eq. 20's sigma1*dz/dt).
+    no_s1 = eqx.tree_at(lambda c: tuple(m.sigma1 for m in c.observer.segments), pw,
+                        tuple(jax.numpy.zeros_like(m.sigma1) for m in pw.observer.segments))
+    ctrls = {"GA-PSO whole": setup.compensated("GA-PSO whole"), "GA-PSO piecewise": pw,
+             "PID (no compensation)": setup.velocity_pid(), "GA-PSO piecewise, observer sigma1 = 0": no_s1}
     systems = {k: setup.system(c, VelocityRamp(RAMP_V, RAMP_S)) for k, c in ctrls.items()}
     traces = run_lanes(systems, RAMP_S, 400.0, setup.runs)
     met = {}
