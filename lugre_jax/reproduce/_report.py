@@ -278,7 +278,10 @@ def row_design(R, S):
     ours = (f"D-optimal torque sine: {d['best']['amplitude_nm']:g} N*m at {d['best']['frequency_hz']:g} Hz; fit there: "
             f"sigma0 = {_f(f['estimate'][0], 4)} +- {_f(f['se'][0], 2)}, sigma1 = {_f(f['estimate'][1], 3)} +- {_f(f['se'][1], 2)} "
             f"(truth {_f(d['truth'][0], 4)}, {_f(d['truth'][1], 4)}). Worst grid point ({w['amplitude_nm']:g} N*m, "
-            f"{w['frequency_hz']:g} Hz): relative SE sigma0 {w['relative_se_sigma0']:.0%}, sigma1 {w['relative_se_sigma1']:.0%}")
+            f"{w['frequency_hz']:g} Hz): relative SE sigma0 {w['relative_se_sigma0']:.0%}, sigma1 {w['relative_se_sigma1']:.0%}"
+            + (f". From a Fig. 9c-type recording (0.005 deg/s step under PI): relative SE sigma0 "
+               f"{d['typical_recording']['relative_se_sigma0']:.1%}, sigma1 {d['typical_recording']['relative_se_sigma1']:.0%}"
+               if "typical_recording" in d else ""))
     return _row("Dynamic identification (sec. 4.2.5, beyond)", "sigma1 'estimated approximately' by eq. 18; no uncertainty given",
                 ours, "sigma0 and sigma1 identifiable with the designed excitation",
                 "Slow or tiny excitations leave sigma1 undetermined (Fisher information ~0); near the pre-sliding resonance "
