@@ -175,8 +175,8 @@ def row_fig10c(R, S):
     why = ("Dead zone = residual friction at 0.005 deg/s / (ki v). It follows how well each identified curve matches the "
            "plant near 0 deg/s, i.e. the optimiser's final loss (static-fit RMS: "
            + ", ".join(f"{k} {_f(v)} N*m" for k, v in rms.items())
-           + "), not the algorithm's name: a PSO or GA run that converges gives the same curve as GA-PSO (whole). "
-           "One run per method, as in the paper; see the PSO/GA seeds row.")
+           + "), not the algorithm's name: a PSO run that converges gives the same near-zero dead zone as GA-PSO. "
+           "One run per method, as in the paper; see the seeds row.")
     return _row("Fig. 10c", "0.005 deg/s step, compensated: PSO- and GA-identified (whole) still ~2 s dead zone; GA-PSO "
                 "(piecewise) under 1 s", ours, verdict, why, m, "fig10.png")
 
@@ -284,37 +284,22 @@ def row_design(R, S):
                if "typical_recording" in d else ""))
     return _row("Dynamic identification (sec. 4.2.5, beyond)", "sigma1 'estimated approximately' by eq. 18; no uncertainty given",
                 ours, "sigma0 and sigma1 identifiable with the designed excitation",
-                "Slow or tiny excitations leave sigma1 undetermined (Fisher information ~0); near the pre-sliding resonance "
-                "sqrt(sigma0/J) ~ 4.7 Hz both are determined.", d, "excitation_design.png")
+                "Slow or tiny excitations, and the paper's own kind of recording (a slow velocity step), leave sigma1 "
+                "undetermined; a torque sine of ~0.5 N*m at a few Hz to 10 Hz (around the pre-sliding resonance "
+                "sqrt(sigma0/J)/(2 pi) = 4.7 Hz) determines both to a few percent.", d, "excitation_design.png")
 
 
 def row_seeds(R, S):
     s = R.get("seeds")
     if s is None:
         return None
-    ours = "; ".join(f"{k}: dead zone over {len(v)} seeds = " + ", ".join(_f(x) for x in v) + " s" for k, v in s.items())
-    return _row("Fig. 10c seeds (beyond)", "one identification per method", ours, "seed-dependent",
-                "PSO and GA sometimes stop at poor optima (premature convergence, as the paper says); when they converge "
-                "their compensation is as good as GA-PSO's.", s)
-
-
-def row_creep(R, S):
-    r = R.get("creep")
-    if r is None:
-        return None
-    m, st = r["metrics"], r["settings"]
-    worst = max(m["grid"], key=lambda g: g["max_velocity_over_command"])
-    ours = (f"{m['n_stick_slip']} of {m['n']} velocity-PI gain pairs (kp {st['kp']}, ki {st['ki']}) stick-slip at "
-            f"{st['v_deg_s']} deg/s over {st['duration_s']:g} s; the largest velocity reached is "
-            f"{worst['max_velocity_over_command']:.2f} x the command (kp {worst['kp']:g}, ki {worst['ki']:g}); "
-            f"creep amplitude up to {max(g['creep_amplitude_deg'] for g in m['grid']):.2e} deg")
-    why = ("With Tables 1-2 the bristles' relaxation length Fs/sigma0 = "
-           f"{st['presliding_range_deg']:.3f} deg takes {st['presliding_range_deg'] / st['v_deg_s']:.0f} s to traverse at "
-           "0.005 deg/s. Our reading: the velocity weakening acts only below ~sigma0*v/g = 0.09 rad/s, where the "
-           "loop's integral action dominates it, so the joint approaches the command from below without slipping. The paper's 'creep' is, in "
-           "its own model, a slow elastic lag, not stick-slip.")
-    return _row("Creep search (beyond, Figs. 8, 9c, 13)", "PID at 0.005 deg/s shows creeping ('crawling and jumping')", ours,
-                "no stick-slip in the paper's model" if m["n_stick_slip"] == 0 else "stick-slip found", why, m)
+    ours = "; ".join(f"{k}: dead zone over {len(v)} extra seeds = " + ", ".join(_f(x) for x in v) + " s" for k, v in s.items())
+    good = {k: sum(abs(x) < 0.1 for x in v) for k, v in s.items()}
+    why = ("; ".join(f"{k}: {good[k]} of {len(v)} seeds reach the GA-PSO-like optimum (dead zone < 0.1 s)" for k, v in s.items())
+           + ". The paper's ranking of the algorithms is a statement about one run each; across seeds, PSO (100 x 100) "
+           "mostly converges, while the paper's binary GA (20 x 20, 10-bit genes: 0.001 deg/s steps on vs) did not "
+           "reach the optimum in any run here.")
+    return _row("Fig. 10c seeds (beyond)", "one identification per method", ours, "seed-dependent", why, s)
 
 
 ROWS = [row_table1, row_table2, row_fig08, row_fig09ab, row_fig09c, row_fig10ab, row_fig10c, row_seeds, row_fig12, row_fig13,
