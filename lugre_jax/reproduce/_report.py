@@ -296,9 +296,9 @@ def row_seeds(R, S):
     ours = "; ".join(f"{k}: dead zone over {len(v)} extra seeds = " + ", ".join(_f(x) for x in v) + " s" for k, v in s.items())
     good = {k: sum(abs(x) < 0.1 for x in v) for k, v in s.items()}
     why = ("; ".join(f"{k}: {good[k]} of {len(v)} seeds reach the GA-PSO-like optimum (dead zone < 0.1 s)" for k, v in s.items())
-           + ". The paper's ranking of the algorithms is a statement about one run each; across seeds, PSO (100 x 100) "
-           "mostly converges, while the paper's binary GA (20 x 20, 10-bit genes: 0.001 deg/s steps on vs) did not "
-           "reach the optimum in any run here.")
+           + ". The paper's ranking of the algorithms rests on one run each; it is the final fit, not the algorithm, "
+           "that sets the dead zone. The paper's binary GA has 20 x 20 evaluations on 10-bit genes (0.001 deg/s steps "
+           "on vs).")
     return _row("Fig. 10c seeds (beyond)", "one identification per method", ours, "seed-dependent", why, s)
 
 

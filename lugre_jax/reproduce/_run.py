@@ -13,7 +13,7 @@ from ..io import write_json
 from . import _scenarios as sc
 from ._plots import PLOTTERS, _plt, save_traces_npz
 from ._report import build_rows, write_report
-from ._setup import MODELS, STEP_V, Setup, build_setup
+from ._setup import MODELS, Setup, build_setup
 
 SCENARIOS = {"fig08": sc.fig08, "fig09": sc.fig09, "fig10": sc.fig10, "fig12": sc.fig12, "fig13": sc.fig13,
              "fig14": sc.fig14, "fig15": sc.fig15, "beyond": sc.beyond, "creep": sc.creep_search}

@@ -34,7 +34,7 @@ import numpy as np
 
 from .._simulate import System, simulate, stack_systems
 from ..control import LuGreCompensated, PositionPID, VelocityPID, VelocitySteps
-from ..dynamic._presliding import PreslidingResult, lugre_from_static, presliding_step, sigma1_eq18
+from ..dynamic._presliding import lugre_from_static, presliding_step, sigma1_eq18
 from ..friction import AbstractFrictionModel, LuGre, Segmented
 from ..metrics import dead_zone_lag
 from ..plant import PAPER_J, Joint, paper_friction
