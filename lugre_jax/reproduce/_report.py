@@ -258,15 +258,20 @@ def row_beyond(R, S):
     if r is None:
         return None
     m = r["metrics"]
-    ours = "; ".join(f"{k}: dead zone {_f(v['dead_zone_s'])} s, |v error| <= 0.001 {v['band_fraction']:.0%}, within "
-                     f"+-10% in 2nd half {v['rel_band10_fraction_second_half']:.0%}" for k, v in m.items())
-    best = min((abs(v["dead_zone_s"]), k) for k, v in m.items() if "PID" not in k)
-    why = ("The paper's +-0.001 deg/s band around 0.001 deg/s includes standing still, so it is met trivially (also by PID). "
-           "The informative test is +-10%: PID fails it (the joint creeps in pre-sliding at ki/(ki+sigma0) of the "
-           f"command), the best compensation ({best[1]}) passes with a {_f(m[best[1]]['dead_zone_s'])} s dead zone. What limits it is the "
-           "identified curve's error near 0 deg/s (static-fit loss), not the observer.")
-    return _row("Beyond: 0.001 deg/s", "(not in the paper: its spec is met only at 0.005 deg/s)", ours,
-                "compensation holds 0.001 deg/s", why, m, "beyond.png")
+    ours = "; ".join(f"{k}: dead zone {_f(v['dead_zone_s'])} s, |v error| <= 0.001 deg/s {v['band_fraction']:.0%} of the "
+                     f"time, within +-10% {v.get('rel_band10_fraction', float('nan')):.0%}" for k, v in m.items())
+    ok = [k for k, v in m.items() if "PID" not in k and abs(v["dead_zone_s"]) < 0.1 and v.get("rel_band10_fraction", 0) > 0.95]
+    pid = next(v for k, v in m.items() if "PID" in k)
+    why = ("The paper's +-0.001 deg/s band around 0.001 deg/s includes standing still, so it is met trivially (also by "
+           "PID). The informative tests are the dead zone and a +-10% band: without compensation the PI must build the "
+           f"whole friction torque through its lag (dead zone {_f(pid['dead_zone_s'])} s, tending to F/(ki v) ~ 11 s); with "
+           "a well-identified model the residual is tiny. What limits it is the identified curve's error near 0 deg/s "
+           "(static-fit loss), not the observer. The run is 120 s so that the joint leaves the pre-sliding range "
+           "(0.12 deg > Fs/sigma0 = 0.058 deg).")
+    verdict = (f"{len(ok)} of {len(m) - 1} compensations hold 0.001 deg/s (dead zone < 0.1 s, >95% of the time within "
+               "+-10%)") if ok else "no compensation holds 0.001 deg/s within +-10%"
+    return _row(f"Beyond: 0.001 deg/s for {r['settings'].get('duration_s', 30):g} s",
+                "(not in the paper: its spec is met only at 0.005 deg/s)", ours, verdict, why, m, "beyond.png")
 
 
 def row_design(R, S):
