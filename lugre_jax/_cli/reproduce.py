@@ -4,8 +4,9 @@ figure (PNG), the raw results (JSON, NPZ) and a report that puts the paper's cla
 for each figure and table (REPORT.md, report.json).
 
 The "real joint" is the paper's own Tables 1-2 model; the compensators use models identified from
-noisy steady-state data by the paper's optimisers (never the plant itself). About 5 minutes on 2
-cores; ``--quick`` (reduced optimiser settings, shorter fits, no seed study) in about a minute.
+noisy steady-state data by the paper's optimisers (never the plant itself). About 3-4 minutes on 2
+cores (measured 3.3 min); ``--quick`` (reduced optimiser settings, no time-series fits, no seed study or
+excitation design) in about 1-1.5 minutes.
 """
 
 from __future__ import annotations
