@@ -48,3 +48,4 @@ from ._simulate import (
     trajectory_loss as trajectory_loss,
     vector_field as vector_field,
 )
+from . import dynamic as dynamic, metrics as metrics

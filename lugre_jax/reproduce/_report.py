@@ -321,7 +321,9 @@ def row_creep(R, S):
            f"{st['presliding_range_deg']:.3f} deg takes {st['presliding_range_deg'] / st['v_deg_s']:.0f} s to traverse at "
            "0.005 deg/s. Our reading: the velocity weakening acts only below ~sigma0*v/g = 0.09 rad/s, where the "
            "loop's integral action dominates it, so the joint approaches the command from below without slipping. The paper's 'creep' is, in "
-           "its own model, a slow elastic lag, not stick-slip.")
+           "its own model, a slow elastic lag, not stick-slip. At higher commands the same model does "
+           "stick-slip: with kp = 8 and ki <= ~100 the velocity swings several times the command between 0.01 and "
+           "0.06 deg/s (experiments/fig13_creep, stick-slip map).")
     return _row("Creep search (beyond, Figs. 8, 9c, 13)", "PID at 0.005 deg/s shows creeping ('crawling and jumping')", ours,
                 "no stick-slip in the paper's model" if m["n_stick_slip"] == 0 else "stick-slip found", why, m)
 
