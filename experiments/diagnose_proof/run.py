@@ -11,9 +11,11 @@ Each run appends one JSON line to ``<out>/runs.jsonl`` (resumable; ``--shard i/n
 across processes). Usage::
 
     python experiments/diagnose_proof/run.py --out experiments/diagnose_proof/results [--shard 0/2]
-    # then, below the limit of the strong effects:
-    python experiments/diagnose_proof/run.py --strengths 0.0625,0.03125 --null-seeds "" \
-        --effects position_ripple,asymmetry,thermal_drift,stribeck_shape,backlash
+    # backlash is still detected at 0.125: go lower
+    python experiments/diagnose_proof/run.py --strengths 0.0625,0.03125,0.015625 --null-seeds "" \
+        --effects backlash
+    # two more seeds at the concealed level and half of it
+    python experiments/diagnose_proof/run.py --strengths 1,0.5 --seeds 3,4 --null-seeds ""
 """
 
 from __future__ import annotations
