@@ -29,6 +29,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--offset", action="store_true", help="fit a constant torque offset in the baseline")
     p.add_argument("--alpha", type=float, default=0.05, help="family-wise false-alarm rate (default 0.05)")
     p.add_argument("--candidates", help="comma-separated subset of candidate ids (default: all)")
+    p.add_argument("--block-s", type=float, default=None,
+                   help="length of the validation/cluster time blocks in seconds "
+                        "(default ~1 s, at least 25 blocks; every 5th block is held out)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
@@ -46,6 +49,8 @@ def run(args) -> int:
     from ..diagnose._physics import CANDIDATES
     from ..io._atomic import write_json
 
+    if args.block_s is not None and not args.block_s > 0:
+        raise ValueError(f"--block-s must be positive, got {args.block_s}")
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha must be in (0, 1), got {args.alpha}")
     params = None
@@ -69,7 +74,7 @@ def run(args) -> int:
             raise ValueError(f"--candidates: unknown {bad}; choose from {sorted(CANDIDATES)}")
     rec = _load(args.recording)
     rep = diagnose(rec, params=params, friction=args.friction, fit_offset=args.offset,
-                   alpha=args.alpha, candidates=cands, progress=not args.quiet)
+                   alpha=args.alpha, candidates=cands, progress=not args.quiet, block_s=args.block_s)
     write_json(args.out, public_report(rep))
     if args.plots:
         plot_report(rep, rec, args.plots)
