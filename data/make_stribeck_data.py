@@ -1,6 +1,6 @@
 """Regenerate data/stribeck_paper_like.csv (synthetic; see data/README.md).
 
-    /work/venv/bin/python data/make_stribeck_data.py [--seed 284] [--out data/stribeck_paper_like.csv]
+    python data/make_stribeck_data.py [--seed 284] [--out data/stribeck_paper_like.csv]
 """
 
 import argparse

@@ -49,3 +49,5 @@ from ._simulate import (
     vector_field as vector_field,
 )
 from . import dynamic as dynamic, metrics as metrics
+from .io import Recording as Recording, load_emps as load_emps, load_recording as load_recording
+from . import diagnose as diagnose, identify as identify

@@ -1,6 +1,6 @@
 """Reproduce 'design' of Li et al., Electronics 2020, 9, 284 in simulation (see lugre_jax.reproduce).
 
-    /work/venv/bin/python experiments/excitation_design/run.py [--out DIR] [--quick] [--setup-cache JSON]
+    python experiments/excitation_design/run.py [--out DIR] [--quick] [--setup-cache JSON]
 
 Writes design.json (metrics, settings, set-up) and, for trajectory scenarios, design_traces.npz. The
 identified set-up (observers, gains) is cached in OUT/setup.json; pass --setup-cache to share one.

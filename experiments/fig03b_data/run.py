@@ -3,7 +3,7 @@
 Writes the per-set-point averages, the samples, the generating Table 1 model and the detected
 boundaries to --out (default experiments/fig03b_data/results/).
 
-    /work/venv/bin/python experiments/fig03b_data/run.py [--data data/stribeck_paper_like.csv]
+    python experiments/fig03b_data/run.py [--data data/stribeck_paper_like.csv]
 """
 
 import argparse

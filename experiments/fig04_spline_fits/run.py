@@ -1,7 +1,7 @@
 """Fig. 4 of Li et al. 2020: cubic-spline fits of each segment (accelerating and decelerating branch
 tangent at the minimum-torque velocity) and the 4-term sum-of-sines curves of eq. (12).
 
-    /work/venv/bin/python experiments/fig04_spline_fits/run.py [--data data/stribeck_paper_like.csv] [--edges 0.05,1.2]
+    python experiments/fig04_spline_fits/run.py [--data data/stribeck_paper_like.csv] [--edges 0.05,1.2]
 """
 
 import argparse

@@ -1,6 +1,6 @@
 """Draw Fig. 5-style convergence curves from run.py's results (best-so-far J vs iteration and vs evaluations).
 
-    /work/venv/bin/python experiments/fig05_convergence/plot.py [--results DIR]
+    python experiments/fig05_convergence/plot.py [--results DIR]
 
 Writes DIR/fig05_convergence.png.
 """

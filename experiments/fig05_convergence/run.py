@@ -6,7 +6,7 @@ paper's settings on synthetic segment-1 data (Table 1 segment 1 truth, 92 points
 noise sd 0.015 N*m; see experiments/optimiser_benchmark/static_problem.py) over many seeds, and count
 iterations AND loss evaluations (GA-PSO spends 5x more evaluations per iteration than PSO).
 
-    /work/venv/bin/python experiments/fig05_convergence/run.py [--seeds 200] [--out DIR]
+    python experiments/fig05_convergence/run.py [--seeds 200] [--out DIR]
 
 Writes DIR/convergence.json (summary + per-seed metrics) and DIR/histories_<method>.csv
 (best-so-far loss J per iteration, one row per seed).

@@ -1,7 +1,7 @@
 """Fig. 6 of Li et al. 2020: identified (piecewise, GA-PSO) Stribeck curve over the fitting curve of
 the test data (shipped synthetic data).
 
-    /work/venv/bin/python experiments/fig06_identified_curve/run.py [--method gapso] [--seeds 4] [--no-refine]
+    python experiments/fig06_identified_curve/run.py [--method gapso] [--seeds 4] [--no-refine]
 """
 
 import argparse

@@ -1,6 +1,6 @@
 """Reproduce 'fig08' of Li et al., Electronics 2020, 9, 284 in simulation (see lugre_jax.reproduce).
 
-    /work/venv/bin/python experiments/fig08_cascade_step/run.py [--out DIR] [--quick] [--setup-cache JSON]
+    python experiments/fig08_cascade_step/run.py [--out DIR] [--quick] [--setup-cache JSON]
 
 Writes fig08.json (metrics, settings, set-up) and, for trajectory scenarios, fig08_traces.npz. The
 identified set-up (observers, gains) is cached in OUT/setup.json; pass --setup-cache to share one.

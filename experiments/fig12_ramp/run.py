@@ -1,6 +1,6 @@
 """Reproduce 'fig12' of Li et al., Electronics 2020, 9, 284 in simulation (see lugre_jax.reproduce).
 
-    /work/venv/bin/python experiments/fig12_ramp/run.py [--out DIR] [--quick] [--setup-cache JSON]
+    python experiments/fig12_ramp/run.py [--out DIR] [--quick] [--setup-cache JSON]
 
 Writes fig12.json (metrics, settings, set-up) and, for trajectory scenarios, fig12_traces.npz. The
 identified set-up (observers, gains) is cached in OUT/setup.json; pass --setup-cache to share one.

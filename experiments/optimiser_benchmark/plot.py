@@ -1,6 +1,6 @@
 """Draw the optimiser benchmark: success rate and evaluations to success per method.
 
-    /work/venv/bin/python experiments/optimiser_benchmark/plot.py [--results DIR]
+    python experiments/optimiser_benchmark/plot.py [--results DIR]
 
 Writes DIR/benchmark.png.
 """

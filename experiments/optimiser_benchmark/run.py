@@ -5,7 +5,7 @@ log-spaced over [0.001, 1.5] deg/s, noise sd 0.015 N*m), the paper's bounds. Eve
 ``--seeds`` independent seeds (one jitted vmapped call per method; scipy in a loop). Success: final
 loss J <= 1.01 * J_ref, with J_ref from LM started at the truth (the best known optimum).
 
-    /work/venv/bin/python experiments/optimiser_benchmark/run.py [--seeds 100] [--out DIR]
+    python experiments/optimiser_benchmark/run.py [--seeds 100] [--out DIR]
 
 Writes DIR/benchmark.json (per method: success rate, evaluations and estimated wall time to success,
 parameter errors, per-seed final losses) and DIR/benchmark.md (the table).

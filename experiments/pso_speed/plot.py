@@ -1,6 +1,6 @@
 """Bar chart of the PSO speed study: jax (batched seeds) vs pyswarms vs the exp floor.
 
-    /work/venv/bin/python experiments/pso_speed/plot.py [--results DIR]
+    python experiments/pso_speed/plot.py [--results DIR]
 
 Writes DIR/pso_speed.png.
 """

@@ -3,7 +3,7 @@ Stribeck problem: 100 seeds in one jitted call vs pyswarms GlobalBestPSO looping
 the CPU floor (how fast this CPU evaluates float64 exp in a fused jitted loop, times the number of exps
 a PSO run needs).
 
-    /work/venv/bin/python experiments/pso_speed/run.py [--seeds 100] [--repeats 3] [--out DIR]
+    python experiments/pso_speed/run.py [--seeds 100] [--repeats 3] [--out DIR]
 
 Writes DIR/pso_speed.json. The work per seed: ours evaluates 100 x (100 + 1) swarms (initial swarm
 included), pyswarms 100 x 100; each evaluation is 92 data points with one exp each.

@@ -2,7 +2,7 @@
 viscous (eq. 11) vs Stribeck (eq. 10), whole vs piecewise, on both drives and both directions.
 RMS errors in mN*m. Skips cleanly when the data folder is absent.
 
-    /work/venv/bin/python experiments/real_data_tro2021/run.py [--data-root ../shared/data] [--seeds 8]
+    python experiments/real_data_tro2021/run.py [--data-root ../shared/data] [--seeds 8]
 
 Bounds are scaled to the data (``auto``): these drives run at 10-1200 deg/s and ~1-4 mN*m, far
 outside the paper's N*m / deg/s ranges. Each model is fitted with GA-PSO (+ LM refinement) and with

@@ -6,7 +6,7 @@ the 80 accelerating-branch set-points of the shipped data design, 30 samples eac
 errors. Reports, per parameter, the fraction of realisations with |estimate - truth| < 2 SE (target
 >= 90 %) and the ratio of the estimator variance to the CRLB (target <= 1.5).
 
-    /work/venv/bin/python experiments/recovery_crlb/run.py [--n 100] [--method lm] [--seeds 16]
+    python experiments/recovery_crlb/run.py [--n 100] [--method lm] [--seeds 16]
 """
 
 import argparse

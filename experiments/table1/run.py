@@ -5,7 +5,7 @@ Configurations: boundaries detected from the data vs the paper's stated 0.05 / 1
 the paper's settings (+ LM refinement) vs multi-start Levenberg-Marquardt; fitting the averaged data
 vs the eq. (12) sum-of-sines curves (the paper's route).
 
-    /work/venv/bin/python experiments/table1/run.py [--seeds 4] [--quick]
+    python experiments/table1/run.py [--seeds 4] [--quick]
 """
 
 import argparse

@@ -1,6 +1,6 @@
 """Reproduce 'table2' of Li et al., Electronics 2020, 9, 284 in simulation (see lugre_jax.reproduce).
 
-    /work/venv/bin/python experiments/table2_dynamic/run.py [--out DIR] [--quick] [--setup-cache JSON]
+    python experiments/table2_dynamic/run.py [--out DIR] [--quick] [--setup-cache JSON]
 
 Writes table2.json (metrics, settings, set-up) and, for trajectory scenarios, table2_traces.npz. The
 identified set-up (observers, gains) is cached in OUT/setup.json; pass --setup-cache to share one.

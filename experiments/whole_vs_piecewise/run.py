@@ -2,7 +2,7 @@
 residuals per set-point and RMS near the minimum-torque velocity (0.05 deg/s in the paper) and near
 the critical Stribeck velocity (1.2 deg/s).
 
-    /work/venv/bin/python experiments/whole_vs_piecewise/run.py [--method lm] [--seeds 16]
+    python experiments/whole_vs_piecewise/run.py [--method lm] [--seeds 16]
 """
 
 import argparse

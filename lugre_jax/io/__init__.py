@@ -10,7 +10,13 @@ from ._atomic import (
     write_csv as write_csv,
     write_json as write_json,
 )
-from ._emps import default_emps_path as default_emps_path, load_emps as load_emps
+from ._emps import (
+    EMPS_REFERENCE as EMPS_REFERENCE,
+    SI_UNITS as SI_UNITS,
+    default_emps_path as default_emps_path,
+    emps_idim_ls as emps_idim_ls,
+    load_emps as load_emps,
+)
 from ._epos import (
     TRO2021_NOMINAL_TORQUE_NM as TRO2021_NOMINAL_TORQUE_NM,
     EposRecording as EposRecording,
@@ -19,7 +25,9 @@ from ._epos import (
     load_friction_data as load_friction_data,
 )
 from ._recording import (
+    PAPER_UNITS as PAPER_UNITS,
     Recording as Recording,
+    derive_kinematics as derive_kinematics,
     load_recording as load_recording,
     recording_from_arrays as recording_from_arrays,
     write_recording as write_recording,
