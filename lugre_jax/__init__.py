@@ -4,37 +4,13 @@ Implements and extends B. Li, Y. Zhang, L. Yuan, X. Xi, "Study on the Low Veloci
 Prostate Seed Implantation Robot's Rotatory Joint", Electronics 2020, 9, 284.
 
 Units at every interface are the paper's: angles in deg, velocities in deg/s, torques in N*m.
+
+Subpackages: ``friction``, ``plant``, ``control``, ``identify``, ``dynamic``, ``diagnose``, ``io``,
+``reproduce``; module ``metrics``.
 """
 
 from . import _config  # noqa: F401  (enables float64 before anything is traced)
 from ._params import bounds_of as bounds_of, names_of as names_of, units_of as units_of
-from .friction import (
-    AbstractFrictionModel as AbstractFrictionModel,
-    CoulombViscous as CoulombViscous,
-    LuGre as LuGre,
-    Segmented as Segmented,
-    Stribeck as Stribeck,
-)
-from .plant import (
-    DCMotor as DCMotor,
-    Joint as Joint,
-    PAPER_J as PAPER_J,
-    paper_friction as paper_friction,
-    paper_segment as paper_segment,
-)
-
-__version__ = "0.1.0"
-from .control import (
-    LuGreCompensated as LuGreCompensated,
-    OpenLoop as OpenLoop,
-    OpenLoopVoltage as OpenLoopVoltage,
-    PositionPID as PositionPID,
-    PositionSine as PositionSine,
-    VelocityPID as VelocityPID,
-    VelocityRamp as VelocityRamp,
-    VelocitySteps as VelocitySteps,
-)
-from .plant import IdealTorque as IdealTorque
 from ._simulate import (
     RESULT_NONFINITE as RESULT_NONFINITE,
     RESULT_OK as RESULT_OK,
@@ -48,6 +24,32 @@ from ._simulate import (
     trajectory_loss as trajectory_loss,
     vector_field as vector_field,
 )
-from . import dynamic as dynamic, metrics as metrics
+from .control import (
+    LuGreCompensated as LuGreCompensated,
+    OpenLoop as OpenLoop,
+    OpenLoopVoltage as OpenLoopVoltage,
+    PositionPID as PositionPID,
+    PositionSine as PositionSine,
+    VelocityPID as VelocityPID,
+    VelocityRamp as VelocityRamp,
+    VelocitySteps as VelocitySteps,
+)
+from .friction import (
+    AbstractFrictionModel as AbstractFrictionModel,
+    CoulombViscous as CoulombViscous,
+    LuGre as LuGre,
+    Segmented as Segmented,
+    Stribeck as Stribeck,
+)
 from .io import Recording as Recording, load_emps as load_emps, load_recording as load_recording
-from . import diagnose as diagnose, identify as identify
+from .plant import (
+    PAPER_J as PAPER_J,
+    DCMotor as DCMotor,
+    IdealTorque as IdealTorque,
+    Joint as Joint,
+    paper_friction as paper_friction,
+    paper_segment as paper_segment,
+)
+from . import diagnose as diagnose, dynamic as dynamic, identify as identify, metrics as metrics  # noqa: E402
+
+__version__ = "0.1.0"
