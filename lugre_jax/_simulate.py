@@ -218,6 +218,13 @@ def _outputs(system: System, ts, ys, result) -> Solution:
 
 
 def _solve_one(system, *, n, sample_hz, method, dt, solver, rtol, atol, max_steps, reduce=None):
+    # A non-positive inertia is a malformed system, not a bad candidate: fail loudly (traced check),
+    # rather than return a lane of NaN that an optimiser would read as merely "infinitely bad".
+    J = eqx.error_if(
+        system.joint.J, ~(system.joint.J > 0),
+        "Joint.J must be > 0 N*m*s^2/deg (equivalent inertia at the joint)",
+    )
+    system = eqx.tree_at(lambda s: s.joint.J, system, J)
     ts = jnp.arange(n) / sample_hz
     if method == "fixed":
         ys, res = _solve_fixed(system, n, sample_hz, dt, solver)

@@ -155,6 +155,12 @@ def test_adaptive_max_steps_failure_is_a_result_code():
     assert int(sol.result) == lj.RESULT_SOLVER_FAILED
 
 
+def test_nonpositive_inertia_is_a_traced_error():
+    bad = eqx.tree_at(lambda s: s.joint.J, _pi_system(0.02), jnp.asarray(-0.1))
+    with pytest.raises(Exception, match="Joint.J must be > 0"):
+        lj.simulate(bad, 1.0, 10.0).theta.block_until_ready()
+
+
 def test_bad_static_input_raises_valueerror():
     with pytest.raises(ValueError, match="whole number of samples"):
         lj.simulate(_pi_system(0.02), 1.005, 100.0)
