@@ -51,8 +51,21 @@ def _sine_axes(ax_pos, ax_err, tr: dict, label: str):
 
 def plot_fig08(res: dict, path: Path):
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    _step_axes(ax, res["traces"], res["settings"]["v_deg_s"], "Fig. 8: 0.005 deg/s, no compensation")
+    open_loop = {k: v for k, v in res["traces"].items() if k.startswith("open loop")}
+    closed = {k: v for k, v in res["traces"].items() if k not in open_loop}
+    fig, axs = plt.subplots(1, 2 if open_loop else 1, figsize=(13 if open_loop else 7, 4.5), squeeze=False)
+    _step_axes(axs[0, 0], closed, res["settings"]["v_deg_s"], "Fig. 8: 0.005 deg/s, no compensation")
+    if open_loop:
+        # Its own axes: the open-loop joint runs away to hundreds of deg/s (log scale of the velocity).
+        ax = axs[0, 1]
+        for k, tr in open_loop.items():
+            ax.semilogy(tr["t"], np.maximum(np.abs(tr["omega"]), 1e-6), label=k)
+        ax.axhline(res["settings"]["v_deg_s"], color="r", lw=1, label="command 0.005 deg/s")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("|velocity| [deg/s]")
+        ax.set_title("Fig. 8 read as open loop: runaway", fontsize=10)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
     save_figure(fig, path)
     plt.close(fig)
 

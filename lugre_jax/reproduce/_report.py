@@ -108,12 +108,19 @@ def row_fig08(R, S):
     ours = (f"cascade: dead zone {_f(c['dead_zone_s'])} s, creep amplitude {_f(c['creep_amplitude_deg'])} deg, "
             f"inside the +-0.001 deg/s cone {c['cone_fraction']:.0%} of the time; velocity loop alone: dead zone "
             f"{_f(v['dead_zone_s'])} s, creep {_f(v['creep_amplitude_deg'])} deg")
+    o = r["metrics"].get("open loop (feedforward of identified F(v), no feedback)")
+    if o is not None:
+        ours += (f"; open loop (constant {o['torque_nm']:.3g} N*m = identified F(0.005 deg/s), no feedback): "
+                 f"breaks away after {_f(o['breakaway_s'])} s and runs away to {_f(o['final_velocity_deg_s'])} deg/s "
+                 f"at t = {r['settings']['duration_s']:g} s")
     verdict = "not reproduced" if c["creep_amplitude_deg"] < v["creep_amplitude_deg"] else "reproduced"
     why = ("We follow the text (both loops closed). The position loop's integral action removes the lag the velocity "
            "PI must build against ~6.4 N*m of friction, so the cascade is *better* than Fig. 9c, the opposite of the "
            "paper's remark that Fig. 9c is 'a bit better than the open-loop control in Fig. 8'. No stick-slip appears: "
            "with Table 2's sigma0 the pre-sliding range is Fs/sigma0 = 0.058 deg, and the PI's stiffness keeps the "
-           "joint sliding smoothly once it breaks away.")
+           "joint sliding smoothly once it breaks away. Read as open loop (as the issue does), a feedforward of the "
+           "identified friction with no feedback cannot hold 0.005 deg/s at all: the Stribeck curve falls with "
+           "velocity, so any torque that breaks the joint away accelerates it (no stable creep either).")
     return _row("Fig. 8", "0.005 deg/s step, position and velocity loops closed: errors and serious creeping",
                 ours, verdict, why, r["metrics"], "fig08.png")
 

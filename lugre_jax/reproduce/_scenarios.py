@@ -25,7 +25,7 @@ import numpy as np
 
 from .. import metrics as M
 from .._simulate import System, simulate, stack_systems
-from ..control import PositionSine, VelocityPID, VelocityRamp, VelocitySteps
+from ..control import OpenLoop, PositionSine, VelocityPID, VelocityRamp, VelocitySteps
 from ..friction import LuGre, Segmented
 from ..plant import Joint
 from ._setup import STEP_DURATION_S, STEP_V, Setup
@@ -127,6 +127,21 @@ def fig08(setup: Setup) -> dict:
     """Fig. 8: 0.005 deg/s step, position and velocity loops closed, no compensation."""
     traces, met = _step(setup, {"PID cascade (position + velocity)": setup.position_pid(),
                                 "PID velocity loop only (Fig. 9c)": setup.velocity_pid()})
+    # Open loop (how the issue reads Fig. 8): the identified model's steady-state torque at the
+    # commanded velocity, applied with no feedback. Once the joint breaks away it runs away, and the
+    # bristle dynamics at hundreds of deg/s are stiff: the adaptive implicit solver handles it.
+    label = "open loop (feedforward of identified F(v), no feedback)"
+    ff = float(setup.observers["GA-PSO piecewise"].steady_state(STEP_V))
+    sol = simulate(setup.system(OpenLoop(bias=ff), VelocitySteps([STEP_V])), STEP_DURATION_S, 20.0,
+                   method="adaptive", rtol=1e-7, atol=1e-10)
+    tr = _np(sol)
+    if tr["result"] != 0:
+        raise RuntimeError(f"simulation of {label!r} failed with result code {tr['result']}")
+    traces[label] = tr
+    moving = np.nonzero(tr["omega"] > 10 * STEP_V)[0]
+    met[label] = dict(step_metrics(tr, STEP_V), torque_nm=ff,
+                      breakaway_s=float(tr["t"][moving[0]]) if moving.size else float("inf"),
+                      final_velocity_deg_s=float(tr["omega"][-1]))
     return dict(traces=traces, metrics=met, settings=dict(v_deg_s=STEP_V, duration_s=STEP_DURATION_S))
 
 
