@@ -2,6 +2,7 @@
 
 import dataclasses
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -110,7 +111,7 @@ def test_benchmark_scipy_rhs_is_the_same_system():
     from lugre_jax._bench import _numpy_rhs, bench_system, lane_factors
 
     f = lane_factors(1, seed=9)[0]
-    sys1 = jax.tree.map(lambda x: x[0] if lj._simulate.eqx.is_array(x) else x, bench_system(f[None]))
+    sys1 = jax.tree.map(lambda x: x[0] if eqx.is_array(x) else x, bench_system(f[None]))
     rhs = _numpy_rhs(f)
     rng = np.random.default_rng(0)
     for v in [0.0, 0.003, 0.049, 0.052, 0.3, 1.19, 1.25, -0.05]:

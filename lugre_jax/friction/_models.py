@@ -142,8 +142,7 @@ class LuGre(AbstractFrictionModel):
         return Stribeck(self.Fc, self.Fs, self.vs, self.sigma2, self.delta)
 
     def steady_state(self, v):
-        v = jnp.asarray(v)
-        return jnp.sign(v) * self.g(v) + self.sigma2 * v
+        return self.static().steady_state(v)
 
     def derivative(self, z, v):
         # |v|*z, never v/|v|: the latter is 0/0 at rest.

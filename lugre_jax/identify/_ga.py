@@ -114,6 +114,14 @@ class GAState(eqx.Module):
     key: PRNGKeyArray
 
 
+def _advance(state, genes, x, losses, n_new, key):
+    """Next generation's state: keep the best-so-far unless this generation beat it."""
+    i = jnp.argmin(losses)
+    better = losses[i] < state.best_loss
+    return GAState(genes, losses, jnp.where(better, x[i], state.best_x),
+                   jnp.where(better, losses[i], state.best_loss), state.n_evals + n_new, key)
+
+
 def _state_from(genes, x, losses, key, n_evals):
     i = jnp.argmin(losses)
     return GAState(genes, losses, x[i], losses[i], jnp.asarray(n_evals), key)
@@ -183,16 +191,7 @@ class GA(AbstractOptimiser):
         children, elite_losses = _with_elites(children, state.genes, state.losses, self.n_elite)
         x = jax.vmap(self.decode, (0, None, None))(children, lower, upper)
         losses = jnp.concatenate([elite_losses, evaluate(loss_fn, x[self.n_elite:])])
-        i = jnp.argmin(losses)
-        better = losses[i] < state.best_loss
-        return GAState(
-            children,
-            losses,
-            jnp.where(better, x[i], state.best_x),
-            jnp.where(better, losses[i], state.best_loss),
-            state.n_evals + (n - self.n_elite),
-            key,
-        )
+        return _advance(state, children, x, losses, n - self.n_elite, key)
 
     def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
         """Init plus ``generations`` steps under ``lax.scan``; history has ``generations + 1`` rows."""
@@ -262,16 +261,7 @@ class RealGA(AbstractOptimiser):
         children = mut(jax.random.split(km, n), children, self.pm, self.eta_m, lower, upper)
         children, elite_losses = _with_elites(children, state.genes, state.losses, self.n_elite)
         losses = jnp.concatenate([elite_losses, evaluate(loss_fn, children[self.n_elite:])])
-        i = jnp.argmin(losses)
-        better = losses[i] < state.best_loss
-        return GAState(
-            children,
-            losses,
-            jnp.where(better, children[i], state.best_x),
-            jnp.where(better, losses[i], state.best_loss),
-            state.n_evals + (n - self.n_elite),
-            key,
-        )
+        return _advance(state, children, children, losses, n - self.n_elite, key)
 
     def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
         """Init plus ``generations`` steps under ``lax.scan``; history has ``generations + 1`` rows."""

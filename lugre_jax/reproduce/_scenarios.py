@@ -41,19 +41,21 @@ def _np(sol, i=None):
                 v_ref=pick(sol.v_ref), torque=pick(sol.torque_nm), result=int(pick(sol.result)))
 
 
-def _key(system, duration_s, sample_hz):
+def _key(system, duration_s, sample_hz, solve_kw):
     leaves, tree = jax.tree.flatten(system)
     return (str(tree), tuple(np.asarray(x).tobytes() if eqx.is_array(x) else repr(x) for x in leaves),
-            float(duration_s), float(sample_hz))
+            float(duration_s), float(sample_hz), tuple(sorted(solve_kw.items())))
 
 
-def run_lanes(systems: dict, duration_s: float, sample_hz: float, memo: dict | None = None) -> dict:
+def run_lanes(systems: dict, duration_s: float, sample_hz: float, memo: dict | None = None,
+              **solve_kw) -> dict:
     """Simulate ``{label: System}``; systems of identical structure share one batched solve. With
-    ``memo`` (a dict), runs already simulated (same system, duration and rate) are reused."""
+    ``memo`` (a dict), runs already simulated (same system, duration, rate and solver options) are
+    reused. ``solve_kw`` goes to :func:`~lugre_jax.simulate` (e.g. ``method="adaptive"``)."""
     if memo is not None:
-        keys = {k: _key(s, duration_s, sample_hz) for k, s in systems.items()}
+        keys = {k: _key(s, duration_s, sample_hz, solve_kw) for k, s in systems.items()}
         todo = {k: s for k, s in systems.items() if keys[k] not in memo}
-        new = run_lanes(todo, duration_s, sample_hz) if todo else {}
+        new = run_lanes(todo, duration_s, sample_hz, **solve_kw) if todo else {}
         for k, tr in new.items():
             memo[keys[k]] = tr
         return {k: memo[keys[k]] for k in systems}
@@ -64,10 +66,11 @@ def run_lanes(systems: dict, duration_s: float, sample_hz: float, memo: dict | N
     out = {}
     for labels in groups.values():
         if len(labels) == 1:
-            sol = simulate(systems[labels[0]], duration_s, sample_hz)
+            sol = simulate(systems[labels[0]], duration_s, sample_hz, **solve_kw)
             out[labels[0]] = _np(sol)
         else:
-            sol = simulate(stack_systems([systems[k] for k in labels]), duration_s, sample_hz, batched=True)
+            sol = simulate(stack_systems([systems[k] for k in labels]), duration_s, sample_hz, batched=True,
+                           **solve_kw)
             for i, k in enumerate(labels):
                 out[k] = _np(sol, i)
     for k, tr in out.items():
@@ -132,11 +135,8 @@ def fig08(setup: Setup) -> dict:
     # bristle dynamics at hundreds of deg/s are stiff: the adaptive implicit solver handles it.
     label = "open loop (feedforward of identified F(v), no feedback)"
     ff = float(setup.observers["GA-PSO piecewise"].steady_state(STEP_V))
-    sol = simulate(setup.system(OpenLoop(bias=ff), VelocitySteps([STEP_V])), STEP_DURATION_S, 20.0,
-                   method="adaptive", rtol=1e-7, atol=1e-10)
-    tr = _np(sol)
-    if tr["result"] != 0:
-        raise RuntimeError(f"simulation of {label!r} failed with result code {tr['result']}")
+    tr = run_lanes({label: setup.system(OpenLoop(bias=ff), VelocitySteps([STEP_V]))}, STEP_DURATION_S, 20.0,
+                   setup.runs, method="adaptive", rtol=1e-7, atol=1e-10)[label]
     traces[label] = tr
     moving = np.nonzero(tr["omega"] > 10 * STEP_V)[0]
     met[label] = dict(step_metrics(tr, STEP_V), torque_nm=ff,
