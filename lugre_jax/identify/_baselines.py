@@ -20,11 +20,19 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from evosax.algorithms import CMA_ES as _EvoCMAES, DifferentialEvolution as _EvoDE
 
 from .._types import Array, Float, Int, PRNGKeyArray, Scalar
 from ._fitness import LossFn, ResidualFn, RunResult, best_of, evaluate, scan_run
 from ._optimiser import AbstractOptimiser
+
+
+def _evosax():
+    # Imported on first use: importing evosax.algorithms creates arrays, which starts the XLA
+    # backend -- at package import that would freeze the host device count before the CLI can set
+    # it (measured: `lugre-jax bench` then saw one device instead of two).
+    from evosax import algorithms
+
+    return algorithms
 
 
 class EvosaxState(eqx.Module):
@@ -46,7 +54,7 @@ class CMAES(AbstractOptimiser):
 
     def _algo(self, dim: int):
         n = self.pop_size if self.pop_size is not None else 4 + int(3 * np.log(dim))
-        return _EvoCMAES(population_size=n, solution=jnp.zeros(dim))
+        return _evosax().CMA_ES(population_size=n, solution=jnp.zeros(dim))
 
     def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> EvosaxState:
         """Mean uniform in the box; no evaluation."""
@@ -92,7 +100,7 @@ class DE(AbstractOptimiser):
             raise ValueError(f"DE needs pop_size >= 4, got {self.pop_size}")
 
     def _algo(self, dim: int):
-        algo = _EvoDE(population_size=self.pop_size, solution=jnp.zeros(dim))
+        algo = _evosax().DifferentialEvolution(population_size=self.pop_size, solution=jnp.zeros(dim))
         params = algo.default_params.replace(
             elitism=self.base == "best",
             crossover_rate=self.CR,
