@@ -288,7 +288,9 @@ def simulate(
     Samples at ``t = 0, 1/sample_hz, ..., duration_s`` (positions in deg, velocities in deg/s,
     torques in N*m). With ``batched=True`` every leaf of ``system`` has a leading batch axis and all
     lanes are solved in one jitted call: lanes are processed ``chunk_size`` at a time (bounded
-    memory) and, when several devices exist and ``shard`` is not False, split across them.
+    memory; the default, about 200 lanes per chunk, keeps a step's working set in cache, measured
+    2.5x faster than one big vmap at 10,000 lanes) and, when several devices exist and ``shard`` is
+    not False, split across them.
 
     ``method="fixed"``: constant step ``dt`` [s] (default 2.5 ms: see README for the error it
     gives) with a diffrax explicit RK ``solver`` (default ``"tsit5"``). ``method="adaptive"``:
@@ -326,12 +328,22 @@ def _jit_one(system, **kw):
     return _solve_one(system, **kw)
 
 
+_DEFAULT_CHUNK = 200
+
+
 def _simulate_batched(system, b, kw, chunk_size, shard):
     devices = jax.devices()
     ndev = len(devices) if (shard is None or shard) else 1
     ndev = max(1, min(ndev, b))
     per_dev = -(-b // ndev)
-    chunk = per_dev if chunk_size is None else max(1, min(int(chunk_size), per_dev))
+    if chunk_size is None:
+        # Chunks of ~_DEFAULT_CHUNK lanes keep a step's working set in cache: measured on the
+        # benchmark (2-core CPU, 10,000 lanes) 19,700 sims/s against 7,700 for one 5,000-lane
+        # chunk per device. Balanced so that padding stays below one lane per chunk.
+        n_chunks = -(-per_dev // _DEFAULT_CHUNK)
+        chunk = -(-per_dev // n_chunks)
+    else:
+        chunk = max(1, min(int(chunk_size), per_dev))
     per_dev = -(-per_dev // chunk) * chunk
     total = per_dev * ndev
     if total != b:  # pad with copies of lane 0, dropped afterwards
