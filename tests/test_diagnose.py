@@ -24,7 +24,7 @@ CHECKS = {
     "asymmetry": [("offset", lambda e: float(e.offset), 0.30)],
     "thermal_drift": [("rate", lambda e: float(e.rate), 0.30)],
     "stribeck_shape": [("delta", lambda e: float(e.delta), 0.10)],
-    "backlash": [("width", lambda e: float(e.width), 0.30)],
+    "backlash": [("width", lambda e: float(e.width), 0.30), ("share", lambda e: float(e.share), 0.30)],
     "compliance": [("fn_hz", lambda e: float(e.fn), 0.05)],
     "load_dependent": [("mu", lambda e: float(e.mu), 0.30)],
 }

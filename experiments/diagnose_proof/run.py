@@ -38,7 +38,7 @@ KEY_PARAMS = {  # report key -> attribute of the true effect module
     "asymmetry": {"offset": "offset", "dsigma2": "dsigma2"},
     "thermal_drift": {"rate": "rate"},
     "stribeck_shape": {"delta": "delta"},
-    "backlash": {"width": "width"},
+    "backlash": {"width": "width", "share": "share"},
     "compliance": {"fn_hz": "fn", "J_load": "J_load"},
     "load_dependent": {"mu": "mu"},
 }

@@ -1,8 +1,9 @@
 """Synthetic joint recordings with a known (possibly concealed) missing effect, by inverse dynamics.
 
 A smooth trajectory theta(t) is prescribed -- velocity plateaus at +-0.05 ... +-2 deg/s joined by
-smooth (septic smoothstep, 0.8 s) transitions, with directions chosen so that the position slowly sweeps a range, so
-speed, direction, position and time are not confounded. Along it the LuGre state z is integrated
+ramps at a constant +-1.5 deg/s^2 (smooth onset and release), with directions chosen so that the
+position slowly sweeps a range, so speed, direction, position, acceleration and time are not
+confounded. Along it the LuGre state z is integrated
 (exact-exponential update on a grid ``n_sub`` times finer than the samples), the torque is
 ``J*a + F_LuGre(z, v) + effect + noise`` (Li et al., Electronics 2020, 9, 284, eq. 1-2 and 9), and
 the result is sampled. The effect is one of the candidate physics of :mod:`._physics`, evaluated by
@@ -32,14 +33,47 @@ def true_friction() -> LuGre:
     return LuGre(Fc=1.0, Fs=1.6, vs=0.2, sigma2=0.5, sigma0=100.0, sigma1=2.0)
 
 
-def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
-                     speeds=SPEEDS, plateau=(2.0, 6.0), transition=(0.3, 0.8), sweep=(0.0, 120.0)):
-    """(t, v, a) on a fine grid: random plateaus, smooth transitions, position sweeping ``sweep``.
+ACCEL = 1.5  # deg/s^2, acceleration of every speed change
+CORNER = 0.15  # s, smooth onset/release of the acceleration
 
-    Transitions last 0.3 or 0.8 s (random), so that some are fast enough to excite an elastic mode.
-    The direction of each plateau heads toward a target that moves slowly between the ends of
-    ``sweep``; one plateau in four goes the other way, so every speed is seen in both directions at
-    many positions.
+
+def _septic(w):
+    """Septic smoothstep S(w) and its integral over [0, w]: C3 at both ends."""
+    S = -20 * w**7 + 70 * w**6 - 84 * w**5 + 35 * w**4
+    I = -2.5 * w**8 + 10 * w**7 - 14 * w**6 + 7 * w**5
+    return S, I
+
+
+def _ramp(tau, dv, accel=ACCEL, corner=CORNER):
+    """Velocity change and acceleration ``tau`` seconds into a speed change of ``dv``.
+
+    The acceleration rises smoothly (septic, ``corner`` s) to +-``accel``, holds, and falls back, so
+    most of the change happens at one acceleration level: an effect that scales with |a| then has its
+    peak close to its RMS over the ramp (the concealed level is set by the peak). Changes smaller
+    than ``accel*corner`` use a lower level with no hold. Returns (dv(tau), a(tau), duration)."""
+    A = min(accel, abs(dv) / corner) * np.sign(dv)
+    hold = max(abs(dv) / accel - corner, 0.0) if abs(dv) > accel * corner else 0.0
+    T = 2 * corner + hold
+    tau = np.clip(tau, 0.0, T)
+    w1 = np.clip(tau / corner, 0, 1)
+    w3 = np.clip((tau - corner - hold) / corner, 0, 1)
+    S1, I1 = _septic(w1)
+    S3, I3 = _septic(w3)
+    a = A * (S1 - S3)
+    vel = A * (corner * I1 + np.clip(tau - corner, 0, hold) + (corner * w3 - corner * I3))
+    return vel, a, T
+
+
+def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
+                     speeds=SPEEDS, plateau=(1.0, 3.5), sweep=(0.0, 120.0)):
+    """(t, v, a) on a fine grid: random plateaus joined by constant-acceleration ramps, the position
+    sweeping ``sweep``.
+
+    Every speed change runs at +-``ACCEL`` (smooth 0.15-s onset and release, which also excites an
+    elastic mode), so that about a quarter of the time the joint accelerates: load-dependent effects
+    are then seen often, not only in brief peaks. The direction of each plateau heads toward a target
+    that moves slowly between the ends of ``sweep``; three plateaus in ten go the other way, so every
+    speed is seen in both directions at many positions, with reversals every ~10 s (backlash).
     """
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, duration + dt_fine / 2, dt_fine)
@@ -53,23 +87,20 @@ def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
         frac = (t0 % T_sweep) / T_sweep
         target = lo + (hi - lo) * (2 * frac if frac < 0.5 else 2 - 2 * frac)
         sgn = 1.0 if target > pos else -1.0
-        if rng.random() < 0.25:
+        if rng.random() < 0.3:
             sgn = -sgn
         s = sgn * float(rng.choice(speeds))
-        dur = float(rng.uniform(*plateau))
-        tr = float(rng.choice(transition))
-        segs.append((t0, v_prev, s, dur, tr))
+        tr = _ramp(0.0, s - v_prev)[2]
+        dur = tr + float(rng.uniform(*plateau))
+        segs.append((t0, v_prev, s, dur))
+        # a ramp whose acceleration profile is symmetric moves (v0 + v1)/2 * its duration
         pos += 0.5 * (v_prev + s) * tr + s * (dur - tr)
         v_prev, t0 = s, t0 + dur
-    for t0, v0, v1, dur, transition in segs:
+    for t0, v0, v1, dur in segs:
         m = (t >= t0) & (t < t0 + dur)
-        tau = t[m] - t0
-        w = np.clip(tau / transition, 0, 1)
-        # septic smoothstep: velocity, acceleration, jerk and snap continuous, so that the
-        # acceleration the tool derives from sampled velocity (low-pass + central differences) is
-        # exact to well below the torque noise -- no artefact at the start/end of a transition
-        v[m] = v0 + (v1 - v0) * (-20 * w**7 + 70 * w**6 - 84 * w**5 + 35 * w**4)
-        a[m] = np.where(tau < transition, (v1 - v0) / transition * 140 * w**3 * (1 - w) ** 3, 0.0)
+        dv, am, _ = _ramp(t[m] - t0, v1 - v0)
+        v[m] = v0 + dv
+        a[m] = am
     return t, v, a
 
 
@@ -87,11 +118,11 @@ def effect_instance(name: str, strength: float = 1.0):
     if name == "stribeck_shape":
         return ph.StribeckShape(2.0 - 0.5 * s)
     if name == "backlash":
-        return ph.Backlash(0.001 * s)
+        return ph.Backlash(0.01, 0.028 * s)
     if name == "compliance":
-        return ph.Compliance(3.0, 0.05, 0.0016 * s)
+        return ph.Compliance(3.0, 0.05, 0.02 * s)
     if name == "load_dependent":
-        return ph.LoadDependent(0.03 * s, 0.02)
+        return ph.LoadDependent(0.2 * s, 0.02)
     raise ValueError(f"unknown effect {name!r}; expected one of {list(ph.CANDIDATES)}")
 
 
