@@ -83,8 +83,9 @@ class AbstractCandidate(eqx.Module):
         """Modify the friction law / friction velocity (identity for purely additive physics)."""
 
     @abc.abstractmethod
-    def extra_torque(self, kin: Kinematics, friction_torque, inertial_torque) -> Float[Array, " n"]:
-        """Additive torque [recording torque unit] (zeros for physics acting through ``prepare``)."""
+    def extra_torque(self, kin: Kinematics, terms: Terms, friction_torque, inertial_torque) -> Float[Array, " n"]:
+        """Additive torque [recording torque unit] (zeros for physics acting through ``prepare``);
+        ``terms`` are the prepared friction terms, for physics that re-evaluates part of the friction."""
 
     @abc.abstractmethod
     def initial_guesses(self, ctx: dict) -> list["AbstractCandidate"]:
@@ -168,7 +169,7 @@ class JointModel(eqx.Module):
         inertial = self.J * kin.a
         tau = inertial + F + self.offset
         for c in self.candidates:
-            tau = tau + c.extra_torque(kin, F, inertial)
+            tau = tau + c.extra_torque(kin, terms, F, inertial)
         return inertial, F, tau
 
     def predict(self, kin: Kinematics) -> Float[Array, " n"]:

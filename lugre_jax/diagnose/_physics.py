@@ -20,7 +20,7 @@ import jax.scipy.linalg as jsl
 import numpy as np
 
 from ..friction import LuGre, Stribeck
-from ._model import AbstractCandidate, Kinematics, Terms, cparam
+from ._model import AbstractCandidate, Kinematics, Terms, cparam, friction_torque
 
 TWO_PI = 2 * np.pi
 
@@ -44,7 +44,7 @@ class PositionRipple(AbstractCandidate):
     def prepare(self, terms, kin):
         return terms
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         return self.amplitude * jnp.sin(TWO_PI * kin.theta / self.period + self.phase)
 
     def initial_guesses(self, ctx):
@@ -77,7 +77,7 @@ class Gravity(AbstractCandidate):
     def prepare(self, terms, kin):
         return terms
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         return self.amplitude * jnp.sin(kin.theta * self.to_rad + self.phase)
 
     def initial_guesses(self, ctx):
@@ -112,7 +112,7 @@ class Asymmetry(AbstractCandidate):
     def prepare(self, terms, kin):
         return terms
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         return self.offset + self.dsigma2 * jnp.abs(kin.v)
 
     def initial_guesses(self, ctx):
@@ -145,7 +145,7 @@ class ThermalDrift(AbstractCandidate):
         tm = 0.5 * (kin.t[0] + kin.t[-1])
         return eqx.tree_at(lambda x: x.friction_gain, terms, terms.friction_gain * (1 + self.rate * (kin.t - tm)))
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         return _zeros(kin)
 
     def initial_guesses(self, ctx):
@@ -176,7 +176,7 @@ class StribeckShape(AbstractCandidate):
     def prepare(self, terms, kin):
         return eqx.tree_at(lambda x: x.friction.delta, terms, self.delta)
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         return _zeros(kin)
 
     def initial_guesses(self, ctx):
@@ -218,7 +218,8 @@ def engaged_fraction(theta, width):
 
 class Backlash(AbstractCandidate):
     """Dead band at reversals: the load, and the share of the friction behind the gap, disengage
-    while the gap is crossed."""
+    while the gap is crossed; the load-side bristles hold their state meanwhile, so that share of the
+    friction also lags the motor by the gap after re-engagement."""
 
     width: jax.Array = cparam("P", 1e-7, 0.02, log=True)
     share: jax.Array = cparam("1", 1e-4, 1.0, log=True)
@@ -230,24 +231,25 @@ class Backlash(AbstractCandidate):
         "felt at the actuator. Seen as a friction drop of share*F for a short time after each reversal.")
 
     def prepare(self, terms, kin):
-        # The friction behind the gap keeps its bristle state while disengaged; for gaps much
-        # narrower than the pre-sliding range (g/sigma0) the motor-side state is a close proxy.
-        frac = engaged_fraction(kin.theta, self.width)
-        return Terms(terms.friction, terms.v_friction,
-                     terms.friction_gain * (1.0 - self.share * (1.0 - frac)))
+        return terms
 
-    def extra_torque(self, kin, F, inertial):
-        return _zeros(kin)
+    def extra_torque(self, kin, terms, F, inertial):
+        # Split friction: (1 - share)*F on the motor side, as before; the load side moves only when
+        # engaged (velocity frac*v, so its bristles hold their state in the gap) and is felt only then.
+        frac = engaged_fraction(kin.theta, self.width)
+        F_load = terms.friction_gain * friction_torque(terms.friction, terms.v_friction * frac, kin.h)
+        return self.share * (frac * F_load - F)
 
     def initial_guesses(self, ctx):
-        # share by least squares on the located residual for each trial width
+        # share by least squares on the located residual, for each trial width
         P = ctx["scales"]["P"]
-        theta = jnp.asarray(ctx["rec"].position)
-        F = np.asarray(ctx["friction_torque"])
+        kin = ctx["kin"]
+        terms = Terms(ctx["baseline"].friction, kin.v, jnp.ones_like(kin.v))
+        F = jnp.asarray(ctx["friction_torque"])
         r = np.asarray(ctx["residual"])
         out = []
         for w in (1e-6, 1e-5, 1e-4, 1e-3):
-            x = -F * (1.0 - np.asarray(engaged_fraction(theta, w * P)))
+            x = np.asarray(Backlash(w * P, 1.0).extra_torque(kin, terms, F, None))
             share = float(np.dot(x, r) / max(np.dot(x, x), 1e-300))
             out.append(Backlash(w * P, float(np.clip(share, 2e-4, 0.9))))
         return out
@@ -291,7 +293,7 @@ class Compliance(AbstractCandidate):
     def prepare(self, terms, kin):
         return terms
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         h = jnp.mean(kin.h)
         return self.J_load * _compliance_response(kin.a, h, self.fn, self.zeta)
 
@@ -326,7 +328,7 @@ class LoadDependent(AbstractCandidate):
     def prepare(self, terms, kin):
         return terms
 
-    def extra_torque(self, kin, F, inertial):
+    def extra_torque(self, kin, terms, F, inertial):
         return self.mu * jnp.abs(inertial) * jnp.tanh(kin.v / self.v_eps)
 
     def initial_guesses(self, ctx):

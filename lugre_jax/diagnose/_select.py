@@ -34,7 +34,7 @@ from ._physics import CANDIDATES
 
 def _ctx(rec, model, kin, r, loc, scales, n_rev):
     inertial, F, _ = (np.asarray(x) for x in M._parts(model, kin))
-    return {"rec": rec, "baseline": model, "residual": r, "scales": scales, "units": rec.units,
+    return {"rec": rec, "kin": kin, "baseline": model, "residual": r, "scales": scales, "units": rec.units,
             "position_peaks": loc["position_periodogram"]["peaks"],
             "time_peak_hz": loc["time_periodogram"]["frequency"], "friction_torque": F,
             "inertial_torque": inertial, "n_reversals": n_rev,
