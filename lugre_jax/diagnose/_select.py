@@ -24,11 +24,14 @@ from __future__ import annotations
 
 import time
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 from scipy import stats
 
 from . import _locate as L
 from . import _model as M
+from ..friction import LuGre
 from ._physics import CANDIDATES
 
 
@@ -88,8 +91,23 @@ def fit_baseline(rec, kin, weights, scales, friction="lugre", fit_offset=False, 
         return M.baseline_from_params(params), {"result": "given", "steps": 0}
     m0 = M.initial_baseline(rec, friction, fit_offset)
     space = M.FitSpace(M.baseline_specs(m0, scales, fit_offset))
-    m0 = M.clip_into(space, m0)
-    return M.fit(m0, space, kin, rec.torque, weights)
+    starts = [M.clip_into(space, m0)]
+    if isinstance(m0.friction, LuGre):
+        # A second start with a clear Stribeck hump: from the least-squares start, LM sometimes
+        # collapses Fs and vs to their lower bounds (measured: 3 of 48 null recordings, a 3x worse
+        # fit); keep whichever start fits the training samples better.
+        f = m0.friction
+        alt = eqx.tree_at(lambda m: (m.friction.Fs, m.friction.vs), m0,
+                          (jnp.asarray(1.5 * f.Fc), jnp.asarray(0.3 * scales["V"])))
+        starts.append(M.clip_into(space, alt))
+    best = None
+    w = np.asarray(weights)
+    for s0 in starts:
+        fitted, info = M.fit(s0, space, kin, rec.torque, weights)
+        sse = float(np.sum(w * (np.asarray(rec.torque) - M.predict(fitted, kin)) ** 2))
+        if best is None or sse < best[0]:
+            best = (sse, fitted, info)
+    return best[1], best[2]
 
 
 def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offset: bool = False,
