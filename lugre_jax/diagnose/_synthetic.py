@@ -65,7 +65,7 @@ def _ramp(tau, dv, accel=ACCEL, corner=CORNER):
 
 
 def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
-                     speeds=SPEEDS, plateau=(1.0, 3.5), sweep=(0.0, 120.0)):
+                     speeds=SPEEDS, plateau=(1.0, 3.5), sweep=(0.0, 120.0), burst=0.25):
     """(t, v, a) on a fine grid: random plateaus joined by constant-acceleration ramps, the position
     sweeping ``sweep``.
 
@@ -73,7 +73,8 @@ def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
     elastic mode), so that about a quarter of the time the joint accelerates: load-dependent effects
     are then seen often, not only in brief peaks. The direction of each plateau heads toward a target
     that moves slowly between the ends of ``sweep``; three plateaus in ten go the other way, so every
-    speed is seen in both directions at many positions, with reversals every ~10 s (backlash).
+    speed is seen in both directions at many positions; a quarter of the plateaus are replaced by a
+    burst of four short low-speed plateaus of alternating direction, so that reversals are frequent.
     """
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, duration + dt_fine / 2, dt_fine)
@@ -89,13 +90,21 @@ def velocity_profile(seed: int, duration: float = 400.0, dt_fine: float = 1e-3,
         sgn = 1.0 if target > pos else -1.0
         if rng.random() < 0.3:
             sgn = -sgn
-        s = sgn * float(rng.choice(speeds))
-        tr = _ramp(0.0, s - v_prev)[2]
-        dur = tr + float(rng.uniform(*plateau))
-        segs.append((t0, v_prev, s, dur))
-        # a ramp whose acceleration profile is symmetric moves (v0 + v1)/2 * its duration
-        pos += 0.5 * (v_prev + s) * tr + s * (dur - tr)
-        v_prev, t0 = s, t0 + dur
+        if rng.random() < burst:
+            # a reversal burst: four short plateaus alternating at a low speed, so that reversals
+            # (where backlash acts) are frequent without the position stopping its sweep
+            sd = float(rng.choice(speeds[:3]))
+            plan = [(-sgn if k % 2 == 0 else sgn) * sd for k in range(4)]
+            hold = [float(rng.uniform(0.4, 0.8)) for _ in plan]
+        else:
+            plan, hold = [sgn * float(rng.choice(speeds))], [float(rng.uniform(*plateau))]
+        for s, h in zip(plan, hold):
+            tr = _ramp(0.0, s - v_prev)[2]
+            dur = tr + h
+            segs.append((t0, v_prev, s, dur))
+            # a ramp whose acceleration profile is symmetric moves (v0 + v1)/2 * its duration
+            pos += 0.5 * (v_prev + s) * tr + s * (dur - tr)
+            v_prev, t0 = s, t0 + dur
     for t0, v0, v1, dur in segs:
         m = (t >= t0) & (t < t0 + dur)
         dv, am, _ = _ramp(t[m] - t0, v1 - v0)
@@ -120,7 +129,7 @@ def effect_instance(name: str, strength: float = 1.0):
     if name == "backlash":
         return ph.Backlash(0.01, 0.028 * s)
     if name == "compliance":
-        return ph.Compliance(3.0, 0.05, 0.02 * s)
+        return ph.Compliance(3.0, 0.05, 0.014 * s)
     if name == "load_dependent":
         return ph.LoadDependent(0.2 * s, 0.02)
     raise ValueError(f"unknown effect {name!r}; expected one of {list(ph.CANDIDATES)}")
