@@ -3,19 +3,20 @@ recordings give ``none``, and the detection rate falls with effect strength down
 
 Recordings: :func:`lugre_jax.diagnose.make_recording` -- inverse dynamics of the paper's joint
 (Li et al., Electronics 2020, 9, 284, eq. 1-2 and 9) along a prescribed smooth trajectory with
-plateaus at +-0.05..2 deg/s in both directions joined by +-1.5 deg/s^2 ramps and a slow position
-sweep, 400 s at 100 Hz (40,001 samples), torque noise 0.05 N*m (white). Strength 1 is the concealed
+plateaus at +-0.05..2 deg/s in both directions joined by +-1.5 deg/s^2 ramps, reversal bursts and a
+slow position sweep, 400 s at 100 Hz (40,001 samples), torque noise 0.05 N*m (white). Strength 1 is the concealed
 level (peak effect torque below the noise std for every effect, see the table); the tool sees only
 the recording.
 
 Each run appends one JSON line to ``<out>/runs.jsonl`` (resumable; ``--shard i/n`` splits the work
-across processes). The README's table came from (each line twice, with --shard 0/2 and 1/2, ~20 min
+across processes). The README's table came from (each line twice, with --shard 0/2 and 1/2, ~25 min
 in all on 2 cores)::
 
-    # concealed level and half of it, 5 seeds each, and 48 null recordings
-    python experiments/diagnose_proof/run.py --shard 0/2 --seeds 0,1,2,3,4 --strengths 1,0.5 \
+    # concealed level, 10 seeds, and 48 null recordings
+    python experiments/diagnose_proof/run.py --shard 0/2 --seeds 0,1,2,3,4,5,6,7,8,9 --strengths 1 \
         --null-seeds $(python -c 'print(",".join(str(100 + i) for i in range(48)))')
-    # a quarter and an eighth, 3 seeds each
+    # half of it, 5 seeds; a quarter and an eighth, 3 seeds
+    python experiments/diagnose_proof/run.py --shard 0/2 --seeds 0,1,2,3,4 --strengths 0.5 --null-seeds ""
     python experiments/diagnose_proof/run.py --shard 0/2 --seeds 0,1,2 --strengths 0.25,0.125 --null-seeds ""
     python experiments/diagnose_proof/plot.py
 """
