@@ -404,6 +404,9 @@ def run_benchmark(quick: bool = False, progress=None) -> dict:
                 out[f"two_devices_over_one_{cfg[0]}_b{b}"] = twos[0]["sims_per_s"] / one[0]["sims_per_s"]
     fast = dict(solver=pairs["rtol1e-03"]["ours"]["solver"], dt=pairs["rtol1e-03"]["ours"]["dt_s"])
     out["fast_config"] = fast
+    # Batch 1 is latency-bound: in a quiet fresh process XLA spreads the six tangents over the second
+    # core, which the forward solve cannot use (2.4x); after other work in the same process, or with
+    # another process holding the second core, the same Jacobian takes 5-7x. Per core it is ~6x.
     for b in ([1, 100] if quick else [1, 100, 1000]):
         out[f"jacobian_b{b}"] = jacobian_cost(b, **fast)
         bar.update()
