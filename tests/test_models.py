@@ -108,15 +108,17 @@ def test_motor_time_constants_match_eq6():
 
 def test_benchmark_scipy_rhs_is_the_same_system():
     # The scipy baseline uses a hand-written RHS; it must be the simulator's vector field.
-    from lugre_jax._bench import _numpy_rhs, bench_system, lane_factors
+    # Both of them: the scalar one and the numpy-style one.
+    from lugre_jax._bench import _array_rhs, _numpy_rhs, bench_system, lane_factors
 
     f = lane_factors(1, seed=9)[0]
     sys1 = jax.tree.map(lambda x: x[0] if eqx.is_array(x) else x, bench_system(f[None]))
-    rhs = _numpy_rhs(f)
     rng = np.random.default_rng(0)
-    for v in [0.0, 0.003, 0.049, 0.052, 0.3, 1.19, 1.25, -0.05]:
-        y = np.zeros(8)
-        y[:3] = [rng.normal(), v, rng.normal() * 0.01]
-        y[4] = rng.normal() * 0.01
-        full = np.asarray(lj.vector_field(0.3, jnp.asarray(y), sys1))
-        np.testing.assert_allclose(rhs(0.3, [y[0], y[1], y[2], y[4]]), full[[0, 1, 2, 4]], rtol=1e-12, atol=1e-12)
+    for rhs in (_numpy_rhs(f), _array_rhs(f)):
+        for v in [0.0, 0.003, 0.049, 0.052, 0.3, 1.19, 1.25, -0.05]:
+            y = np.zeros(8)
+            y[:3] = [rng.normal(), v, rng.normal() * 0.01]
+            y[4] = rng.normal() * 0.01
+            full = np.asarray(lj.vector_field(0.3, jnp.asarray(y), sys1))
+            np.testing.assert_allclose(rhs(0.3, [y[0], y[1], y[2], y[4]]), full[[0, 1, 2, 4]],
+                                       rtol=1e-12, atol=1e-12)

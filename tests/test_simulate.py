@@ -150,6 +150,18 @@ def test_batched_equals_single_and_failed_lane_is_flagged():
     assert np.isfinite(loss[:2]).all() and loss[2] == np.inf
 
 
+def test_default_chunking_pads_and_matches_one_chunk():
+    # 451 lanes: by default three 151-lane chunks (two padding lanes); results must not depend on the split
+    base = _pi_system(0.02)
+    Js = jnp.linspace(0.1, 0.3, 451)
+    batch = eqx.tree_at(lambda s: s.joint.J, lj.broadcast_system(base, 451), Js)
+    auto = lj.simulate(batch, 1.0, 100.0, batched=True, shard=False, solver="heun", dt=1e-2)
+    whole = lj.simulate(batch, 1.0, 100.0, batched=True, shard=False, solver="heun", dt=1e-2, chunk_size=451)
+    assert auto.theta.shape == (451, 101)
+    np.testing.assert_array_equal(np.asarray(auto.theta), np.asarray(whole.theta))
+    assert float(jnp.max(jnp.abs(auto.theta[0] - auto.theta[-1]))) > 0  # lanes really differ
+
+
 def test_adaptive_max_steps_failure_is_a_result_code():
     sol = lj.simulate(_pi_system(0.02), 5.0, 10.0, method="adaptive", max_steps=10)
     assert int(sol.result) == lj.RESULT_SOLVER_FAILED
