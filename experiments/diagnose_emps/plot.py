@@ -67,7 +67,6 @@ def main():
         fig.suptitle(f"EMPS, baseline '{name}': named {row['named']}; relative error (fit on all) "
                      f"{row['baseline_rel_err_fit_all_pct']:.2f}% -> {row['improved_rel_err_fit_all_pct']:.2f}%")
         save_figure(fig, res / f"residuals_{name}.png")
-        plt.close(fig)
 
         effs = [n for n in d.dtype.names if n.startswith("effect_")]
         if effs:
@@ -87,7 +86,6 @@ def main():
                 ax.set_title(eid)
                 ax.legend(fontsize=7, markerscale=6)
             save_figure(fig, res / f"effects_{name}.png")
-            plt.close(fig)
 
     rows = summary["diagnose"]
     fig, ax = plt.subplots(figsize=(8, 4))
@@ -105,7 +103,6 @@ def main():
     ax.set_ylabel("relative force error [%]")
     ax.legend(fontsize=7)
     save_figure(fig, res / "errors.png")
-    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -111,7 +111,6 @@ def main():
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     save_figure(fig, res / "detection_rate.png")
-    plt.close(fig)
 
     ex = sorted(res.glob("example_*.csv"))
     if ex:
@@ -127,7 +126,6 @@ def main():
         np.atleast_1d(axs)[0].legend(fontsize=7, loc="upper right")
         np.atleast_1d(axs)[-1].set_xlabel("time [s]")
         save_figure(fig, res / "concealed_examples.png")
-        plt.close(fig)
     print((res / "detection_table.md").read_text())
 
 

@@ -43,7 +43,6 @@ def main(argv=None):
     fig.suptitle("Fig. 13: creep / stick-slip under velocity PI, no compensation "
                  f"(kp={meta['gains']['kp']}, ki={meta['gains']['ki']})")
     save_figure(fig, out / "fig13.png")
-    plt.close(fig)
     m = json.loads((out / "stick_slip_map.json").read_text())
     fig, ax = plt.subplots(figsize=(6, 4.5))
     sw = np.asarray(m["relative_swing"], dtype=float)
@@ -59,7 +58,6 @@ def main(argv=None):
     fig.colorbar(pc)
     ax.legend(loc="lower right", fontsize=8)
     save_figure(fig, out / "stick_slip_map.png")
-    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -66,7 +66,6 @@ def plot_identification(res, path) -> None:
     ax.set_title(f"{res.scheme} identification ({res.method}), RMS {res.rms():.3g} N*m")
     ax.legend(fontsize=8)
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def run(args) -> int:

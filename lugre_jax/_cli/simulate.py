@@ -61,4 +61,3 @@ def _plot(cols, path):
     ax[2].set_ylabel("torque [N*m]")
     ax[2].set_xlabel("time [s]")
     save_figure(fig, path)
-    plt.close(fig)

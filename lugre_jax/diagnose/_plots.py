@@ -62,7 +62,6 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
         ax.legend(loc="upper right", fontsize=8)
     axs[1].set_xlabel(f"time [{u['time']}]")
     save_figure(fig, outdir / "residual_time.png")
-    plt.close(fig)
     written.append(str(outdir / "residual_time.png"))
 
     V = np.percentile(np.abs(v), 99.5)
@@ -84,7 +83,6 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
         ax.legend(fontsize=8)
     fig.suptitle("Residual binned by velocity and by position, before and after modelling")
     save_figure(fig, outdir / "residual_velocity_position.png")
-    plt.close(fig)
     written.append(str(outdir / "residual_velocity_position.png"))
 
     pp = arr["loc0"]["position_periodogram"]
@@ -99,7 +97,6 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
     axs[1].set_ylabel("power / local median")
     axs[1].set_title(f"vs time (family p = {tp['p_value']:.2g})")
     save_figure(fig, outdir / "residual_periodograms.png")
-    plt.close(fig)
     written.append(str(outdir / "residual_periodograms.png"))
 
     model = arr["improved_model"]
@@ -129,6 +126,5 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
             ax.set_title(f"named effect: {c.id}")
             ax.legend(fontsize=8, markerscale=8)
             save_figure(fig, outdir / f"effect_{c.id}.png")
-            plt.close(fig)
             written.append(str(outdir / f"effect_{c.id}.png"))
     return written

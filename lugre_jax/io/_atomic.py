@@ -65,6 +65,12 @@ def write_csv(path: str | os.PathLike, columns: dict[str, Any], fmt: str = "%.10
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> None:
-    """Save a matplotlib figure as PNG, atomically."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight")
+    """Save a matplotlib figure as PNG, atomically, and close it (a saved figure is finished; pyplot
+    would otherwise keep every figure of a long run alive)."""
+    import matplotlib.pyplot as plt
+
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight")
+    finally:
+        plt.close(fig)

@@ -99,4 +99,3 @@ def plot_table2(t: dict, path: Path) -> None:
         ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)

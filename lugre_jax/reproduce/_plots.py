@@ -67,7 +67,6 @@ def plot_fig08(res: dict, path: Path):
         ax.legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_fig09(res: dict, path: Path):
@@ -78,7 +77,6 @@ def plot_fig09(res: dict, path: Path):
     _step_axes(axs[2], res["traces"]["step"], res["settings"]["v_deg_s"], "Fig. 9c: velocity PI, 0.005 deg/s")
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_fig10(res: dict, path: Path):
@@ -90,7 +88,6 @@ def plot_fig10(res: dict, path: Path):
                band=False)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_fig12(res: dict, path: Path):
@@ -117,7 +114,6 @@ def plot_fig12(res: dict, path: Path):
         ax.grid(alpha=0.3)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_fig13(res: dict, path: Path):
@@ -127,7 +123,6 @@ def plot_fig13(res: dict, path: Path):
         _step_axes(ax, {"actual (velocity PI)": tr}, v, f"Fig. 13: {k}")
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_fig14(res: dict, path: Path):
@@ -137,7 +132,6 @@ def plot_fig14(res: dict, path: Path):
         _step_axes(ax, {k: tr}, res["settings"]["v_deg_s"], f"Fig. 14: {k}")
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_fig15(res: dict, path: Path):
@@ -148,7 +142,6 @@ def plot_fig15(res: dict, path: Path):
         axs[row, 0].set_title(f"Fig. 15: {k} (friction drifted x{res['settings']['friction_drift']})", fontsize=10)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def plot_beyond(res: dict, path: Path):
@@ -166,7 +159,6 @@ def plot_beyond(res: dict, path: Path):
     axs[1].grid(alpha=0.3)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 PLOTTERS = {"fig08": plot_fig08, "fig09": plot_fig09, "fig10": plot_fig10, "fig12": plot_fig12, "fig13": plot_fig13,
@@ -228,7 +220,6 @@ def plot_creep(res: dict, path: Path):
         fig.colorbar(im, ax=ax)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 PLOTTERS["creep"] = plot_creep

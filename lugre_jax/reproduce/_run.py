@@ -65,7 +65,6 @@ def plot_design(d: dict, path: Path) -> None:
         fig.colorbar(im, ax=ax)
     fig.tight_layout()
     save_figure(fig, path)
-    plt.close(fig)
 
 
 def run_all(out, *, quick: bool = False, data_path=None, only=None, seeds: int | None = None, progress: bool = True,
