@@ -8,6 +8,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ._args import comma_choices
+
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
@@ -66,12 +68,7 @@ def run(args) -> int:
             params = params["baseline"]["params"]
         if not isinstance(params, dict):
             raise ValueError(f"--params: {pth}: expected a JSON object of parameter values")
-    cands = None
-    if args.candidates:
-        cands = [c.strip() for c in args.candidates.split(",") if c.strip()]
-        bad = [c for c in cands if c not in CANDIDATES]
-        if bad:
-            raise ValueError(f"--candidates: unknown {bad}; choose from {sorted(CANDIDATES)}")
+    cands = comma_choices(args.candidates, CANDIDATES, "--candidates") if args.candidates else None
     rec = _load(args.recording)
     rep = diagnose(rec, params=params, friction=args.friction, fit_offset=args.offset,
                    alpha=args.alpha, candidates=cands, progress=not args.quiet, block_s=args.block_s)

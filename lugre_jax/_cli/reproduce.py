@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 
+from ._args import comma_choices
+
 CHOICES = ("fig08", "fig09", "fig10", "fig12", "fig13", "fig14", "fig15", "beyond", "creep", "table2", "design")
 
 
@@ -35,12 +37,7 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    only = None
-    if args.only:
-        only = [s.strip() for s in args.only.split(",") if s.strip()]
-        bad = [s for s in only if s not in CHOICES]
-        if bad:
-            raise ValueError(f"--only: unknown item(s) {bad}; choose from {', '.join(CHOICES)}")
+    only = comma_choices(args.only, CHOICES, "--only") if args.only else None
     if args.seeds is not None and args.seeds < 0:
         raise ValueError("--seeds must be >= 0")
     if args.data is not None and not Path(args.data).exists():
