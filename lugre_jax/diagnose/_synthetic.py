@@ -52,7 +52,7 @@ def _ramp(tau, dv, accel=ACCEL, corner=CORNER):
     peak close to its RMS over the ramp (the concealed level is set by the peak). Changes smaller
     than ``accel*corner`` use a lower level with no hold. Returns (dv(tau), a(tau), duration)."""
     A = min(accel, abs(dv) / corner) * np.sign(dv)
-    hold = max(abs(dv) / accel - corner, 0.0) if abs(dv) > accel * corner else 0.0
+    hold = max(abs(dv) / accel - corner, 0.0)
     T = 2 * corner + hold
     tau = np.clip(tau, 0.0, T)
     w1 = np.clip(tau / corner, 0, 1)
