@@ -71,9 +71,9 @@ def _signals(t, y: tuple, system: System):
     th_r, v_r, a_r = system.reference(t)
     ctrl = system.controller(CtrlIn(theta, omega, xi, xd, zh, xp, th_r, v_r, a_r))
     tau, di = system.actuator.drive(ctrl.command, system.controller.voltage, current, omega)
-    f = system.friction.torque(z, omega)
-    dz = system.friction.derivative(z, omega)
-    domega = (tau - f - system.joint.gravity(theta)) / system.joint.J
+    f, dz = system.friction.torque_and_derivative(z, omega)
+    # * (1/J): a loop-invariant reciprocal (hoisted) instead of a float64 division per evaluation.
+    domega = (tau - f - system.joint.gravity(theta)) * (1.0 / system.joint.J)
     dy = (omega, domega, dz, di, ctrl.dxi, ctrl.dxd, ctrl.dzh, ctrl.dxp)
     return dy, dict(torque_nm=tau, friction_nm=f, command=ctrl.command, theta_ref=th_r, v_ref=v_r)
 

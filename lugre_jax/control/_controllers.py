@@ -92,7 +92,7 @@ class OpenLoopVoltage(AbstractController):
 def _velocity_pid(kp, ki, kd, tf, e, xi, xd):
     # Derivative through a first-order filter (time constant tf): the ideal derivative of a velocity
     # error needs the acceleration, which depends on this very command (an algebraic loop).
-    d = (e - xd) / tf
+    d = (e - xd) * (1.0 / tf)  # reciprocal of a parameter: hoisted out of the time loop
     return kp * e + ki * xi + kd * d, e, d
 
 
@@ -155,10 +155,8 @@ class LuGreCompensated(AbstractController):
         out = self.inner(s)
         # The inner loop's velocity error e = dxi/dt in both PID forms.
         e = out.dxi
-        dzh = self.observer.derivative(s.zh, s.omega) - self.k_obs * e
-        mf_hat = (
-            self.observer.torque(s.zh, s.omega)
-            - self.observer.bristle_damping(s.omega) * self.k_obs * e
-        )
+        f_obs, dz_obs = self.observer.torque_and_derivative(s.zh, s.omega)
+        dzh = dz_obs - self.k_obs * e
+        mf_hat = f_obs - self.observer.bristle_damping(s.omega) * self.k_obs * e
         u = self.J_ff * s.a_ref + out.command + mf_hat
         return CtrlOut(u, out.dxi, out.dxd, dzh, out.dxp)

@@ -37,14 +37,21 @@ class VelocitySteps(AbstractReference):
     def __call__(self, t):
         n = self.levels.shape[-1]
         tau = jnp.maximum(t - self.t0, 0.0)
-        dwell = jnp.minimum(self.dwell_s, 1e30)
-        k = jnp.clip(jnp.floor(tau / dwell), 0, n - 1).astype(jnp.int32)
         started = t >= self.t0
-        v = jnp.where(started, self.levels[k], 0.0)
-        # Position: full dwells of earlier levels plus the part of the current one.
+        if n == 1:
+            # The paper's single step: no level index to find (static shape), so no gather.
+            v = jnp.where(started, self.levels[..., 0], 0.0)
+            return jnp.where(started, self.levels[..., 0] * tau, 0.0), v, jnp.zeros_like(v)
+        dwell = jnp.minimum(self.dwell_s, 1e30)
+        k = jnp.clip(jnp.floor(tau / dwell), 0, n - 1)
+        # One-hot select rather than levels[k]: under vmap an index per lane becomes a gather,
+        # which XLA cannot fuse or vectorise with the rest of the right-hand side.
         idx = jnp.arange(n)
+        v_k = jnp.sum(jnp.where(idx == k, self.levels, 0.0))
+        v = jnp.where(started, v_k, 0.0)
+        # Position: full dwells of earlier levels plus the part of the current one.
         full = jnp.sum(jnp.where(idx < k, self.levels, 0.0)) * dwell
-        theta = jnp.where(started, full + self.levels[k] * (tau - k * dwell), 0.0)
+        theta = jnp.where(started, full + v_k * (tau - k * dwell), 0.0)
         return theta, v, jnp.zeros_like(v)
 
 
