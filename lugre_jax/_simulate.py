@@ -195,7 +195,7 @@ def _solve_fixed(system: System, n: int, sample_hz: float, dt: float, solver_nam
         return (y, k, finite), row
 
     init = (y0, f(jnp.asarray(0.0), y0), jnp.asarray(True))
-    (_, _, ok), ys = jax.lax.scan(sample, init, jnp.arange(n, dtype=jnp.float64))
+    (_, _, ok), ys = jax.lax.scan(jax.checkpoint(sample), init, jnp.arange(n, dtype=jnp.float64))
     return ys, jnp.where(ok, RESULT_OK, RESULT_NONFINITE)
 
 
