@@ -180,3 +180,27 @@ def test_bad_static_input_raises_valueerror():
         lj.simulate(_pi_system(0.02), 1.0, 100.0, method="rk45")
     with pytest.raises(ValueError, match="batch axis"):
         lj.simulate(_pi_system(0.02), 1.0, 100.0, batched=True)
+
+
+def test_unread_trajectories_are_not_stored():
+    # Structural, not a timing: each state is its own scan output, so a loss that reads only theta
+    # compiles to a program that stores no other state's trajectory, and under jacfwd no tangent
+    # copy of them (a stacked (n, 8) row was written whole every step: 6x more under jacfwd).
+    base = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),
+                     controller=lj.VelocityPID(kp=8.0, ki=60.0), reference=lj.VelocitySteps([0.02]))
+    n = 201
+
+    def loss(s0):
+        s = eqx.tree_at(lambda s: s.friction.sigma0, base, s0)
+        return jnp.mean(lj.simulate(s, 2.0, 100.0, dt=1e-2, solver="heun").theta ** 2)
+
+    s0 = jnp.asarray(base.friction.sigma0)
+    for fn in (loss, jax.jacfwd(loss)):
+        hlo = jax.jit(fn).lower(s0).compile().as_text()
+        assert f"f64[{n}]" in hlo  # the theta trajectory is there ...
+        assert f"f64[{n},8]" not in hlo  # ... the stacked rows (or their tangents) are not
+    # sanity of the premise: asking for every state does store the (n, 8) trajectory
+    hlo = jax.jit(lambda s0: lj.simulate(eqx.tree_at(lambda s: s.friction.sigma0, base, s0), 2.0, 100.0,
+                                         dt=1e-2, solver="heun").ys).lower(s0).compile().as_text()
+    assert f"f64[{n},8]" in hlo
+
