@@ -256,10 +256,17 @@ def jacobian_cost(batch, **cfg):
     g = jax.vmap(loss)
     fwd = chunked(loss)
     jf = chunked(jax.jacfwd(loss))
-    # Tangent axis outermost: one jvp per parameter over the whole batch, so each tangent is a
-    # contiguous batch-wide vector (vmap(jacfwd) puts the 6 tangents innermost, per lane).
-    E = jnp.broadcast_to(jnp.eye(6)[:, None, :], (6, batch, 6))
-    jt = jax.jit(lambda P: jax.vmap(lambda e: jax.jvp(g, (P,), (e,))[1])(E))
+    # Tangent axis outermost: one jvp per parameter over a whole chunk, so each tangent is a
+    # contiguous chunk-wide vector (vmap(jacfwd) puts the 6 tangents innermost, per lane). Chunked
+    # like the rest: unchunked, 1,000 lanes spilled the cache (8.9x instead of ~4.4x).
+    E = jnp.broadcast_to(jnp.eye(6)[:, None, :], (6, c, 6))
+
+    def tangent_outer(P):
+        P = jnp.concatenate([P, jnp.repeat(P[:1], nc * c - batch, 0)]).reshape(nc, c, 6)
+        out = jax.lax.map(lambda Pc: jax.vmap(lambda e: jax.jvp(g, (Pc,), (e,))[1])(E), P)  # (nc, 6, c)
+        return jnp.moveaxis(out, 1, 0).reshape(6, nc * c)[:, :batch]
+
+    jt = jax.jit(tangent_outer)
     jr = chunked(jax.grad(loss))
     for f in (fwd, jf, jt, jr):
         jax.block_until_ready(f(ps))
@@ -410,6 +417,17 @@ def run_benchmark(quick: bool = False, progress=None) -> dict:
                 tp.append(r)
                 bar.update()
     out["throughput"] = tp
+    # Re-time the plain scipy loops now and keep the faster of the two timings. On this VM the
+    # same loop took 5.5 to 14.8 ms per solve in different runs, while our batched throughput
+    # moved by ~10 %: a loop timed minutes before our side can inflate the ratio, and the faster
+    # timing is the conservative choice for our claims. Both timings are kept.
+    for p in pairs.values():
+        s_row = p["scipy"]
+        for key, n_loop, rhs in (("scipy_python_rhs_s_per_sim", n_scipy, None),
+                                 ("scipy_numpy_rhs_s_per_sim", max(3, n_scipy // 4), _array_rhs)):
+            again = scipy_loop_time(n_loop, s_row["rtol"], s_row["atol"], rhs=rhs)
+            p[key + "_timings"] = [p[key], again]
+            p[key] = min(p[key], again)
     for solver, dt in sorted(configs):
         for b in batches:
             rs = {r["devices"]: r["sims_per_s"] for r in tp if (r["solver"], r["dt_s"]) == (solver, dt)
