@@ -54,8 +54,7 @@ def plot_main(name: str, default_out: Path, argv=None) -> None:
     ap.add_argument("--out", default=str(default_out))
     a = ap.parse_args(argv)
     out = Path(a.out)
-    from ._plots import PLOTTERS, load_traces_npz
-    from ._run import plot_design
+    from ._plots import PLOTTERS, load_traces_npz, plot_design, plot_table2
 
     if name == "design":
         plot_design(json.loads((out / "design.json").read_text()), out / "excitation_design.png")
@@ -68,34 +67,3 @@ def plot_main(name: str, default_out: Path, argv=None) -> None:
         png = "beyond" if name == "beyond" else name
         PLOTTERS[name](res, out / f"{png}.png")
     print(f"wrote {out}")
-
-
-def plot_table2(t: dict, path: Path) -> None:
-    """Table 2 bars: paper, eq. 17/18 route and time-series fit (+-1 SE), sigma0 and sigma1 per segment."""
-    import numpy as np
-
-    from ..io._atomic import save_figure
-    from ._plots import _plt
-
-    def norm(d):  # segment keys are ints in memory, strings after a JSON round trip
-        return None if d is None else {str(k): v for k, v in d.items()}
-
-    t = dict(t, paper=norm(t["paper"]), route1_paper_method=norm(t["route1_paper_method"]),
-             route2_time_series=norm(t.get("route2_time_series")))
-    plt = _plt()
-    fig, axs = plt.subplots(1, 2, figsize=(11, 4))
-    ks = ["1", "2", "3"]
-    for ax, par in zip(axs, ("sigma0", "sigma1")):
-        x = np.arange(3)
-        ax.bar(x - 0.27, [t["paper"][k][par] for k in ks], 0.27, label="paper Table 2")
-        ax.bar(x, [t["route1_paper_method"][k][par] for k in ks], 0.27, label="eq. 17 step + eq. 18")
-        r2 = t.get("route2_time_series")
-        if r2:
-            ax.bar(x + 0.27, [r2[k][par] for k in ks], 0.27, yerr=[r2[k][par + "_se"] for k in ks], capsize=3,
-                   label="time-series LM +- SE")
-        ax.set_xticks(x, [f"segment {k}" for k in ks])
-        ax.set_ylabel(par + (" [N*m/deg]" if par == "sigma0" else " [N*m*s/deg]"))
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3, axis="y")
-    fig.tight_layout()
-    save_figure(fig, path)

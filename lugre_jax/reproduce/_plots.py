@@ -223,3 +223,50 @@ def plot_creep(res: dict, path: Path):
 
 
 PLOTTERS["creep"] = plot_creep
+
+
+def plot_design(d: dict, path: Path) -> None:
+    plt = _plt()
+    g = d["grid"]
+    amps, freqs = np.unique(g["amplitude_nm"]), np.unique(g["frequency_hz"])
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4))
+    for ax, key, title in zip(axs, ("logdet", "relative_se_sigma0", "relative_se_sigma1"),
+                              ("log det Fisher (D-optimality)", "relative SE sigma0", "relative SE sigma1")):
+        Z = np.full((amps.size, freqs.size), np.nan)
+        for a, f, z in zip(g["amplitude_nm"], g["frequency_hz"], g[key]):
+            Z[np.searchsorted(amps, a), np.searchsorted(freqs, f)] = z if key == "logdet" else np.log10(max(z, 1e-12))
+        im = ax.imshow(Z, origin="lower", aspect="auto", cmap="viridis" if key == "logdet" else "magma_r")
+        ax.set_xticks(range(freqs.size), [f"{f:g}" for f in freqs])
+        ax.set_yticks(range(amps.size), [f"{a:g}" for a in amps])
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("torque amplitude [N*m]")
+        ax.set_title(title + ("" if key == "logdet" else " (log10)"), fontsize=10)
+        fig.colorbar(im, ax=ax)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def plot_table2(t: dict, path: Path) -> None:
+    """Table 2 bars: paper, eq. 17/18 route and time-series fit (+-1 SE), sigma0 and sigma1 per segment."""
+    def norm(d):  # segment keys are ints in memory, strings after a JSON round trip
+        return None if d is None else {str(k): v for k, v in d.items()}
+
+    t = dict(t, paper=norm(t["paper"]), route1_paper_method=norm(t["route1_paper_method"]),
+             route2_time_series=norm(t.get("route2_time_series")))
+    plt = _plt()
+    fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+    ks = ["1", "2", "3"]
+    for ax, par in zip(axs, ("sigma0", "sigma1")):
+        x = np.arange(3)
+        ax.bar(x - 0.27, [t["paper"][k][par] for k in ks], 0.27, label="paper Table 2")
+        ax.bar(x, [t["route1_paper_method"][k][par] for k in ks], 0.27, label="eq. 17 step + eq. 18")
+        r2 = t.get("route2_time_series")
+        if r2:
+            ax.bar(x + 0.27, [r2[k][par] for k in ks], 0.27, yerr=[r2[k][par + "_se"] for k in ks], capsize=3,
+                   label="time-series LM +- SE")
+        ax.set_xticks(x, [f"segment {k}" for k in ks])
+        ax.set_ylabel(par + (" [N*m/deg]" if par == "sigma0" else " [N*m*s/deg]"))
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    save_figure(fig, path)

@@ -7,11 +7,10 @@ import time
 from pathlib import Path
 
 import jax
-import numpy as np
 
 from ..io import write_json
 from . import _scenarios as sc
-from ._plots import PLOTTERS, _plt, save_traces_npz
+from ._plots import PLOTTERS, plot_design, plot_table2, save_traces_npz
 from ._report import build_rows, write_report
 from ._setup import MODELS, Setup, build_setup
 
@@ -42,29 +41,6 @@ def seed_study(setup: Setup, data_path=None, n_seeds: int = 3) -> dict:
         _, met = sc._step(setup, ctrls)
         out[label] = [met[k]["dead_zone_s"] for k in ctrls]
     return out
-
-
-def plot_design(d: dict, path: Path) -> None:
-    from ..io._atomic import save_figure
-
-    plt = _plt()
-    g = d["grid"]
-    amps, freqs = np.unique(g["amplitude_nm"]), np.unique(g["frequency_hz"])
-    fig, axs = plt.subplots(1, 3, figsize=(15, 4))
-    for ax, key, title in zip(axs, ("logdet", "relative_se_sigma0", "relative_se_sigma1"),
-                              ("log det Fisher (D-optimality)", "relative SE sigma0", "relative SE sigma1")):
-        Z = np.full((amps.size, freqs.size), np.nan)
-        for a, f, z in zip(g["amplitude_nm"], g["frequency_hz"], g[key]):
-            Z[np.searchsorted(amps, a), np.searchsorted(freqs, f)] = z if key == "logdet" else np.log10(max(z, 1e-12))
-        im = ax.imshow(Z, origin="lower", aspect="auto", cmap="viridis" if key == "logdet" else "magma_r")
-        ax.set_xticks(range(freqs.size), [f"{f:g}" for f in freqs])
-        ax.set_yticks(range(amps.size), [f"{a:g}" for a in amps])
-        ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel("torque amplitude [N*m]")
-        ax.set_title(title + ("" if key == "logdet" else " (log10)"), fontsize=10)
-        fig.colorbar(im, ax=ax)
-    fig.tight_layout()
-    save_figure(fig, path)
 
 
 def run_all(out, *, quick: bool = False, data_path=None, only=None, seeds: int | None = None, progress: bool = True,
@@ -110,8 +86,6 @@ def run_all(out, *, quick: bool = False, data_path=None, only=None, seeds: int |
             if name == "design":
                 plot_design(r, out / "excitation_design.png")
             else:
-                from ._experiment import plot_table2
-
                 plot_table2(r, out / "table2.png")
         timings[name] = time.perf_counter() - t
     rows = build_rows(results, setup)
