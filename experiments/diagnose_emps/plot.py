@@ -27,7 +27,7 @@ def binned(x, r, nb=30):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", default="experiments/diagnose_emps/results")
+    ap.add_argument("--results", default=str(Path(__file__).resolve().with_name("results")))
     a = ap.parse_args()
     res = Path(a.results)
     import matplotlib

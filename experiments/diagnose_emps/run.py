@@ -94,7 +94,7 @@ def full_rate(path, out, block_s):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default="../shared/data")
-    ap.add_argument("--out", default="experiments/diagnose_emps/results")
+    ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
     ap.add_argument("--block-s", type=float, default=0.5)
     ap.add_argument("--full-rate", action="store_true",
                     help="diagnose the 1 kHz filtered data (no decimation), LuGre + offset baseline only; "

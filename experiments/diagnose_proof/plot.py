@@ -38,7 +38,7 @@ def recovered(r):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", default="experiments/diagnose_proof/results")
+    ap.add_argument("--results", default=str(Path(__file__).resolve().with_name("results")))
     a = ap.parse_args()
     res = Path(a.results)
     rows = [json.loads(x) for x in (res / "runs.jsonl").read_text().splitlines() if x.strip()]

@@ -84,7 +84,7 @@ def one(effect, strength, seed, duration):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="experiments/diagnose_proof/results")
+    ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
     ap.add_argument("--strengths", default="1,0.5,0.25,0.125")
     ap.add_argument("--seeds", default="0,1,2")
     ap.add_argument("--null-seeds", default=",".join(str(100 + i) for i in range(24)))
