@@ -423,7 +423,7 @@ def run_benchmark(quick: bool = False, progress=None) -> dict:
                 bar.update()
     out["throughput"] = tp
     # Re-time the plain scipy loops now and keep the faster of the two timings. On this VM the
-    # same loop took 5.5 to 14.8 ms per solve in different runs, while our batched throughput
+    # same loop took 5.5 to 14.9 ms per solve in different runs, while our batched throughput
     # moved by ~10 %: a loop timed minutes before our side can inflate the ratio, and the faster
     # timing is the conservative choice for our claims. Both timings are kept.
     for p in pairs.values():
