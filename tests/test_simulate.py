@@ -205,6 +205,22 @@ def test_unread_trajectories_are_not_stored():
     assert f"f64[{n},8]" in hlo
 
 
+def test_pi_controller_integrates_no_derivative_filter():
+    # kd = 0.0 as a Python number (the default) is a plain PI: the derivative-filter state is not
+    # integrated. It must give the same joint motion as a traced kd = 0, which integrates the filter.
+    static_kd = _pi_system(0.02)
+    traced_kd = eqx.tree_at(lambda s: s.controller.kd, static_kd, jnp.asarray(0.0))
+    a = lj.simulate(static_kd, 5.0, 100.0, dt=0.01, solver="heun")
+    b = lj.simulate(traced_kd, 5.0, 100.0, dt=0.01, solver="heun")
+    np.testing.assert_array_equal(np.asarray(a.ys[:, :3]), np.asarray(b.ys[:, :3]))
+    assert float(jnp.max(jnp.abs(a.ys[:, 5]))) == 0.0  # xd stays at its initial value ...
+    assert float(jnp.max(jnp.abs(b.ys[:, 5]))) > 0.0  # ... where a traced kd integrates it
+    # and a non-zero derivative gain still acts
+    pid = lj.simulate(eqx.tree_at(lambda s: s.controller.kd, static_kd, 0.05), 5.0, 100.0, dt=0.01,
+                      solver="heun")
+    assert float(jnp.max(jnp.abs(pid.theta - a.theta))) > 1e-6
+
+
 def test_long_steps_interpolate_between_samples():
     # dt = 2 sample periods: one Bosh3 step per two samples, the middle sample cubic-Hermite
     # interpolated from the step's end values and slopes.
