@@ -147,6 +147,25 @@ def _sample_grid(duration_s: float, sample_hz: float):
     return n + 1
 
 
+def _stored_once(y: tuple, one) -> tuple:
+    """``y`` unchanged (``one`` is exactly 1.0), but computed once and stored by XLA.
+
+    XLA:CPU fuses a cheap elementwise value into each of its consumers and recomputes it there. A
+    stage input of an explicit RK step feeds its own right-hand side and every later stage, so the
+    later stages recomputed the earlier ones. ``lax.optimization_barrier`` does not prevent this on
+    CPU (XLA removes it before fusion). XLA's fusion pass does not duplicate an expensive op such
+    as a division into several consumers, so dividing by a runtime 1.0 makes each stage input one
+    stored array. The division is exact; results differ only by rounding (~1e-13 relative: XLA
+    forms multiply-adds differently in fused and in stored code).
+
+    Measured on the benchmark's three-segment joint (Bosh3, 20 ms): the compiled program's fused
+    kernels hold 658 arithmetic ops instead of 948, and one core runs 1,000 lanes at 31,000
+    instead of 22,000 simulations/s. Tsit5 at 2.5 ms became 2.7x faster and reverse-mode
+    gradients 2.2x faster.
+    """
+    return tuple(c / one for c in y)
+
+
 def _rk_step(tableau, f, t, y, h, k0):
     """One explicit Runge-Kutta step from diffrax's Butcher ``tableau``, stages unrolled.
 
@@ -160,9 +179,12 @@ def _rk_step(tableau, f, t, y, h, k0):
             yc + h * sum(c * k[i] for c, k in terms) for i, yc in enumerate(y)
         )
 
+    # 1.0 computed from the state, so XLA can never fold it to a constant (see _stored_once); NaN
+    # only in a lane whose state is already NaN, so it changes no result.
+    one = jnp.where(jnp.isnan(y[0]), jnp.nan, 1.0)
     ks = [k0]
     for i, a in enumerate(tableau.a_lower):
-        ks.append(f(t + float(tableau.c[i]) * h, combo(a)))
+        ks.append(f(t + float(tableau.c[i]) * h, _stored_once(combo(a), one)))
     y1 = combo(tableau.b_sol)
     k1 = ks[-1] if tableau.fsal else f(t + h, y1)
     return y1, k1
