@@ -200,7 +200,7 @@ def scipy_loop_time(n, rtol, atol, rhs=None, repeat=3):
     return best
 
 
-def jax_throughput(batch, shard, repeat=2, **cfg):
+def jax_throughput(batch, shard, repeat=5, **cfg):
     system = bench_system(lane_factors(batch, seed=3))
     reduce = _tracking_errors
 
