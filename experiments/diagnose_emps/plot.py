@@ -9,11 +9,12 @@
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
 import numpy as np
+
+from lugre_jax.reproduce._experiment import results_for_plot
 
 
 def binned(x, r, nb=30):
@@ -25,14 +26,8 @@ def binned(x, r, nb=30):
     return c, m, s
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", default=str(Path(__file__).resolve().with_name("results")))
-    a = ap.parse_args()
-    res = Path(a.results)
-    import matplotlib
-
-    matplotlib.use("Agg")
+def main(argv=None):
+    res = results_for_plot(__doc__, Path(__file__).with_name("results"), ("summary.json",), argv)
     import matplotlib.pyplot as plt
 
     from lugre_jax.io import save_figure

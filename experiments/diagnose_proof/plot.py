@@ -9,12 +9,13 @@ recovered at the concealed level), ``detection_rate.png`` and ``concealed_exampl
 
 from __future__ import annotations
 
-import argparse
 import json
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
+
+from lugre_jax.reproduce._experiment import results_for_plot
 
 RECOVERY = {  # effect -> [(param, relative tolerance)]; amplitude = RMS of the effect torque
     "position_ripple": [("period", 0.05), ("amplitude", 0.30)],
@@ -36,11 +37,8 @@ def recovered(r):
     return ok and abs(r["fitted_rms"] / r["true_rms"] - 1) <= 0.30
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", default=str(Path(__file__).resolve().with_name("results")))
-    a = ap.parse_args()
-    res = Path(a.results)
+def main(argv=None):
+    res = results_for_plot(__doc__, Path(__file__).with_name("results"), ("runs.jsonl",), argv)
     rows = [json.loads(x) for x in (res / "runs.jsonl").read_text().splitlines() if x.strip()]
     null = [r for r in rows if r["effect"] == "none"]
     eff_rows = [r for r in rows if r["effect"] != "none"]
@@ -88,9 +86,6 @@ def main():
                   + f"{r['baseline_val_rmse']:.5f} -> {r['improved_val_rmse']:.5f} |")
     (res / "recovery_table.md").write_text("\n".join(rl) + "\n")
 
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from lugre_jax.io import save_figure

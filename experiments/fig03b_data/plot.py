@@ -1,23 +1,17 @@
 """Plot Fig. 3b (synthetic stand-in) from experiments/fig03b_data/results/ -> fig03b_data.png."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("averaged.csv", "model.csv", "summary.json"), argv)
     av = np.genfromtxt(r / "averaged.csv", delimiter=",", names=True)
     mo = np.genfromtxt(r / "model.csv", delimiter=",", names=True)
     s = json.loads((r / "summary.json").read_text())

@@ -1,23 +1,17 @@
 """Plot Fig. 4 (spline fits per segment and eq. 12 curves) from experiments/fig04_spline_fits/results/."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("fig04.json", "averaged.csv"), argv)
     s = json.loads((r / "fig04.json").read_text())
     av = np.genfromtxt(r / "averaged.csv", delimiter=",", names=True)
     names = list(s["sum_of_sines_eq12"])

@@ -7,28 +7,21 @@ Writes DIR/fig05_convergence.png.
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from lugre_jax.io._atomic import save_figure  # noqa: E402
+from lugre_jax.io._atomic import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 HERE = Path(__file__).resolve().parent
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default=str(HERE / "results"))
-    a = ap.parse_args(argv)
-    path = Path(a.results) / "convergence.json"
-    if not path.exists():
-        raise SystemExit(f"{path} not found: run experiments/fig05_convergence/run.py first")
+    res = results_for_plot(__doc__, HERE / "results", ("convergence.json",), argv)
+    path = res / "convergence.json"
     d = json.loads(path.read_text())
     j_ref = d["problem"]["reference_J"]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -49,7 +42,7 @@ def main(argv=None) -> int:
     axes[0].legend(fontsize=8)
     fig.suptitle(f"Segment (1) static identification, {d['seeds']} seeds: median and 10-90% band "
                  f"($J_{{ref}}$ = {j_ref:.4g})", fontsize=10)
-    out = Path(a.results) / "fig05_convergence.png"
+    out = res / "fig05_convergence.png"
     save_figure(fig, out)
     print(f"wrote {out}")
     return 0

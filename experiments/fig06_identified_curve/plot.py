@@ -1,23 +1,17 @@
 """Plot Fig. 6 (identified Stribeck curve over the data's fitting curve) from results/."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("identification.json",), argv)
     c = np.genfromtxt(r / "curves.csv", delimiter=",", names=True)
     av = np.genfromtxt(r / "averaged.csv", delimiter=",", names=True)
     res = json.loads((r / "identification.json").read_text())

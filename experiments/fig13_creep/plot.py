@@ -2,24 +2,18 @@
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from lugre_jax.io import save_figure  # noqa: E402
+from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
-    a = ap.parse_args(argv)
-    out = Path(a.out)
+    out = results_for_plot(__doc__, Path(__file__).with_name("results"), ("fig13.json",), argv)
     meta = json.loads((out / "fig13.json").read_text())
     with open(out / "fig13.csv") as f:
         names = f.readline().strip().split(",")

@@ -7,28 +7,21 @@ Writes DIR/benchmark.png.
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from lugre_jax.io._atomic import save_figure  # noqa: E402
+from lugre_jax.io._atomic import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 HERE = Path(__file__).resolve().parent
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default=str(HERE / "results"))
-    a = ap.parse_args(argv)
-    path = Path(a.results) / "benchmark.json"
-    if not path.exists():
-        raise SystemExit(f"{path} not found: run experiments/optimiser_benchmark/run.py first")
+    res = results_for_plot(__doc__, HERE / "results", ("benchmark.json",), argv)
+    path = res / "benchmark.json"
     d = json.loads(path.read_text())
     labels = list(d["methods"])
     ms = [d["methods"][k] for k in labels]
@@ -52,7 +45,7 @@ def main(argv=None) -> int:
     for ax in axes:
         ax.grid(alpha=0.3, axis="x")
     fig.suptitle(f"Static whole-range Stribeck identification, {d['seeds']} seeds per method", fontsize=10)
-    out = Path(a.results) / "benchmark.png"
+    out = res / "benchmark.png"
     save_figure(fig, out)
     print(f"wrote {out}")
     return 0

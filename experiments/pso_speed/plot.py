@@ -7,27 +7,20 @@ Writes DIR/pso_speed.png.
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from lugre_jax.io._atomic import save_figure  # noqa: E402
+from lugre_jax.io._atomic import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 HERE = Path(__file__).resolve().parent
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default=str(HERE / "results"))
-    a = ap.parse_args(argv)
-    path = Path(a.results) / "pso_speed.json"
-    if not path.exists():
-        raise SystemExit(f"{path} not found: run experiments/pso_speed/run.py first")
+    res = results_for_plot(__doc__, HERE / "results", ("pso_speed.json",), argv)
+    path = res / "pso_speed.json"
     d = json.loads(path.read_text())
     n = d["exps_per_pso_run"]
     vals = {
@@ -45,7 +38,7 @@ def main(argv=None) -> int:
         ax.text(v, i, f" {v:.2f}", va="center", fontsize=8)
     ax.set_title(f"speed-up {d['speedup_per_seed']:.1f}x ({d['speedup_per_seed_hash_rng']:.1f}x hash rng); "
                  f"{d['ours_over_floor']:.1f}x ({d['ours_hash_rng_over_floor']:.1f}x) the exp floor", fontsize=10)
-    out = Path(a.results) / "pso_speed.png"
+    out = res / "pso_speed.png"
     save_figure(fig, out)
     print(f"wrote {out}")
     return 0

@@ -1,25 +1,19 @@
 """Plot the TRO2021 fits (data +- 2 SE, each model) from experiments/real_data_tro2021/results/."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 MODELS = ("coulomb_viscous_whole", "stribeck_whole", "stribeck_piecewise")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("real_data.json",), argv)
     res = json.loads((r / "real_data.json").read_text())
     fig, axes = plt.subplots(2, 2, figsize=(12, 8))
     for i, drive in enumerate(("driveNo1", "driveNo3")):

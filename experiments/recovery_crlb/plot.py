@@ -1,26 +1,20 @@
 """Plot recovery vs the CRLB from experiments/recovery_crlb/results/: estimate histograms with the
 truth and the CRLB-width normal density, and the standardised errors."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 NAMES = ("Fc", "Fs", "vs", "sigma2")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("recovery.json",), argv)
     s = json.loads((r / "recovery.json").read_text())
     e = np.genfromtxt(r / "estimates.csv", delimiter=",", names=True)
     fig, axes = plt.subplots(2, 4, figsize=(15, 6.5))

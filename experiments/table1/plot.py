@@ -1,16 +1,13 @@
 """Render Table 1 (paper vs regenerated) from experiments/table1/results/ as PNG and Markdown."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from lugre_jax.io import save_figure
 from lugre_jax.io._atomic import atomic_path
+from lugre_jax.reproduce._experiment import results_for_plot
 
 NAMES = ("Fc", "Fs", "vs", "sigma2")
 
@@ -22,11 +19,8 @@ def _cell(p, se, n):
     return f"{p[n]:.4f}" + ("" if s is None else f" ± {s:.2g}")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("table1.json",), argv)
     t = json.loads((r / "table1.json").read_text())
     header = ["source", "segment", "v range [deg/s]", "Fc [N*m]", "Fs [N*m]", "vs [deg/s]", "sigma2 [N*m*s/deg]", "RMS [N*m]", "evals"]
     rows = []

@@ -1,23 +1,17 @@
 """Plot whole vs piecewise residuals from experiments/whole_vs_piecewise/results/."""
 
-import argparse
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
+from lugre_jax.reproduce._experiment import results_for_plot
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--results", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
-    r = Path(a.results)
+def main(argv=None) -> None:
+    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("whole_vs_piecewise.json",), argv)
     res = np.genfromtxt(r / "residuals.csv", delimiter=",", names=True)
     cur = np.genfromtxt(r / "curves.csv", delimiter=",", names=True)
     s = json.loads((r / "whole_vs_piecewise.json").read_text())

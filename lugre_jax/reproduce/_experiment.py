@@ -48,12 +48,30 @@ def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
     print(f"wrote {out}")
 
 
-def plot_main(name: str, default_out: Path, argv=None) -> None:
-    """``plot.py``: read the raw results of ``name`` from ``--out`` and write ``NAME.png`` there."""
-    ap = argparse.ArgumentParser(description=f"plot {name} from its raw results")
-    ap.add_argument("--out", default=str(default_out))
+def results_for_plot(doc: str, default: Path, needs: tuple[str, ...], argv=None) -> Path:
+    """The argument handling every experiment's ``plot.py`` shares; returns the results folder.
+
+    ``--results DIR`` (``--out`` is the same option: the run scripts write to ``--out``) defaults
+    to ``default``, the ``results`` folder beside the script. When a file in ``needs`` is missing
+    it exits with one line naming the ``run.py`` to run first, not a traceback, before anything is
+    drawn or written.
+    """
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--results", "--out", dest="results", default=str(default),
+                    help="folder with run.py's raw results (default: %(default)s)")
     a = ap.parse_args(argv)
-    out = Path(a.out)
+    res = Path(a.results)
+    for name in needs:
+        if not (res / name).exists():
+            raise SystemExit(f"{res / name} not found: run experiments/{Path(default).parent.name}/run.py "
+                             "first (with --out DIR when the results are not in the default folder)")
+    return res
+
+
+def plot_main(name: str, default_out: Path, argv=None) -> None:
+    """``plot.py``: read the raw results of ``name`` from ``--results`` and write ``NAME.png`` there."""
+    needs = {"design": "design.json", "table2": "table2.json"}.get(name, f"{name}.json")
+    out = results_for_plot(f"plot {name} from its raw results", default_out, (needs,), argv)
     from ._plots import PLOTTERS, load_traces_npz, plot_design, plot_table2
 
     if name == "design":
