@@ -21,3 +21,43 @@ def test_cli_gets_one_host_device_per_core():
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert int(out.stdout.strip()) == (os.cpu_count() or 1), out.stdout + out.stderr
+
+
+def _env_flags_after_import(flags):
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    if flags is not None:
+        env["XLA_FLAGS"] = flags
+    code = "import os, lugre_jax\nprint(os.environ['XLA_FLAGS'])\n"
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                          env=env).stdout.strip()
+
+
+def test_import_raises_xlas_small_loop_threshold_keeping_user_flags():
+    opt = "xla_cpu_small_while_loop_byte_threshold"
+    assert _env_flags_after_import(None) == f"--xla_backend_extra_options={opt}=100000000"
+    # other backend options are merged into the same flag, not replaced by a second copy of it
+    got = _env_flags_after_import("--xla_cpu_enable_fast_math=false --xla_backend_extra_options=a=1")
+    assert got == f"--xla_cpu_enable_fast_math=false --xla_backend_extra_options=a=1,{opt}=100000000"
+    # a value the user chose is kept
+    mine = f"--xla_backend_extra_options={opt}=4096"
+    assert _env_flags_after_import(mine) == mine
+
+
+def test_time_loop_compiles_to_one_kernel():
+    # With the threshold raised at import, XLA:CPU outlines the solver's while loop into a single
+    # kernel (a call tagged xla_cpu_small_call); without it, the loop is dispatched op by op.
+    import os
+
+    code = ("import lugre_jax as lj, jax\n"
+            "s = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),\n"
+            "              controller=lj.VelocityPID(kp=8.0, ki=60.0), reference=lj.VelocitySteps([0.02]))\n"
+            "f = jax.jit(lambda s: lj.simulate(s, 2.0, 100.0, dt=0.02, solver='bosh3').theta)\n"
+            "print('xla_cpu_small_call' in f.lower(s).compile().as_text())\n")
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.strip() == "True", out.stdout + out.stderr
+    env["XLA_FLAGS"] = "--xla_backend_extra_options=xla_cpu_small_while_loop_byte_threshold=1024"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.strip() == "False", out.stdout + out.stderr  # premise: the option decides it
