@@ -9,7 +9,10 @@ loop is compiled into one kernel. A time step of our solvers is 20-60 small kern
 not arithmetic, set its cost. Raising the threshold to 100 MB, measured on the benchmark joint
 (Bosh3, 20 ms): one unbatched solve 1.25 -> 0.16 ms; 10,000 lanes on 2 devices 56,000 -> 69,000
 simulations/s; reverse-mode gradient of 200 lanes 11.3 -> 7.5 ms; the test suite passes unchanged.
-(1e5 bytes was slower for batches: 25,900 against 30,000 simulations/s for 1,000 lanes.)
+(1e5 bytes was slower for batches: 25,900 against 30,000 simulations/s for 1,000 lanes.) The cost:
+a loop compiled whole runs on one core, so a loop whose ops XLA spread over both cores can slow
+down; measured, the paper's PSO with threefry random numbers (100 seeds) 0.092 -> 0.150 s, with
+the hash generator unchanged (README, "Speed" and "Notes").
 
 XLA reads ``XLA_FLAGS`` when its backend starts, so this takes effect only if nothing has run a
 JAX computation before ``import lugre_jax`` (importing JAX does not start it). A value the user has
