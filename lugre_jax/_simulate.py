@@ -352,8 +352,10 @@ def simulate(
     torques in N*m). With ``batched=True`` every leaf of ``system`` has a leading batch axis and all
     lanes are solved in one jitted call: lanes are processed ``chunk_size`` at a time (bounded
     memory; the default, about 200 lanes per chunk, keeps a step's working set in cache, measured
-    2.5x faster than one big vmap at 10,000 lanes) and, when several devices exist and ``shard`` is
-    not False, split across them.
+    2.5x faster than one big vmap at 10,000 lanes) and, when several devices exist, split across
+    them: always with ``shard=True``, never with ``False``, and by default (``None``) when the call
+    has enough work to pay for the split (about 4e6 right-hand-side evaluations, measured; e.g.
+    2,000 lanes of Bosh3 at 20 ms over 20 s).
 
     ``method="fixed"``: constant step ``dt`` [s] (default 2.5 ms, capped at the sample period: see
     README for the error it gives) with a diffrax explicit RK ``solver`` (default ``"tsit5"``). A
@@ -402,9 +404,29 @@ def _jit_one(system, **kw):
 _DEFAULT_CHUNK = 200
 
 
+# Sharding over host devices has a fixed cost of about 2.5 ms per call (100 lanes of the benchmark
+# joint, Bosh3 at 20 ms: 2.8-3.1 ms on one device, 5.4 ms on two). Measured on 2 cores, it pays from
+# about 4e6 right-hand-side evaluations per call: that Bosh3 run is even at 1,000 lanes (3e6;
+# 1.06x) and 1.67x at 2,000 (6e6); Heun at 10 ms 1.15-1.2x at 1,000 lanes (4e6); Tsit5 at 2.5 ms
+# 1.5x at 100 lanes (4.8e6). Below it, shard=None runs on one device.
+_SHARD_MIN_EVALS = 4e6
+
+
+def _rhs_evals(b, kw) -> float:
+    """Right-hand-side evaluations of a batched fixed-step solve (inf for the adaptive method)."""
+    if kw["method"] != "fixed":
+        return math.inf
+    tableau = _FIXED_SOLVERS[kw["solver"]].tableau
+    sub, span = _step_plan(kw["dt"], kw["sample_hz"])
+    steps = -(-(kw["n"] - 1) // span) * sub
+    return float(b) * steps * (len(tableau.a_lower) + (0 if tableau.fsal else 1))
+
+
 def _simulate_batched(system, b, kw, chunk_size, shard):
     devices = jax.devices()
-    ndev = len(devices) if (shard is None or shard) else 1
+    if shard is None:
+        shard = _rhs_evals(b, kw) >= _SHARD_MIN_EVALS
+    ndev = len(devices) if shard else 1
     ndev = max(1, min(ndev, b))
     per_dev = -(-b // ndev)
     if chunk_size is None:

@@ -268,3 +268,25 @@ def test_long_steps_interpolate_between_samples():
     # a step that is neither a divisor nor a multiple of the sample period is refused
     with pytest.raises(ValueError, match="whole multiple"):
         lj.simulate(system, 1.0, 100.0, dt=0.015)
+
+
+def test_auto_sharding_only_for_enough_work():
+    # shard=None splits lanes over host devices only when the call has enough right-hand-side
+    # evaluations to pay the split's fixed cost (measured ~2.5 ms); shard=True always splits.
+    import os
+    import subprocess
+    import sys
+
+    code = ("import lugre_jax as lj\n"
+            "from lugre_jax import _simulate as S\n"
+            "s = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),\n"
+            "              controller=lj.VelocityPID(kp=8.0, ki=60.0), reference=lj.VelocitySteps([0.02]))\n"
+            "for b, shard in ((4, None), (4, True)):\n"
+            "    S._CACHE.clear()\n"
+            "    lj.simulate(lj.broadcast_system(s, b), 1.0, 100.0, batched=True, dt=0.02, solver='bosh3', shard=shard)\n"
+            "    print(next(iter(S._CACHE))[0])\n"
+            "kw = dict(method='fixed', solver='bosh3', dt=0.02, sample_hz=100.0, n=2001)\n"
+            "print(S._rhs_evals(2000, kw) >= S._SHARD_MIN_EVALS, S._rhs_evals(1000, kw) >= S._SHARD_MIN_EVALS)\n")
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.split() == ["1", "2", "True", "False"], out.stdout + out.stderr
