@@ -33,7 +33,7 @@ from scipy.integrate import solve_ivp
 
 from . import _config  # noqa: F401
 from ._params import from_vector, to_vector
-from ._simulate import System, _rates, _split, broadcast_system, simulate, vector_field
+from ._simulate import System, _evals_per_step, _rates, _split, broadcast_system, simulate, vector_field
 from .control import VelocityPID, VelocitySteps
 from .friction import LuGre, Segmented
 from .plant import PAPER_J, Joint, paper_friction, paper_segment
@@ -166,10 +166,8 @@ def accuracy_table(progress):
                        ("heun", 1e-2), ("ralston", 1e-2), ("bosh3", 2e-2), ("heun", 2e-2)]:
         sol = simulate(one, DURATION, HZ, solver=solver, dt=dt)
         e = _err(np.asarray(sol.ys[:, :2]), ref)
-        tab = _tableau(solver)
-        stages = len(tab.a_lower) + (0 if tab.fsal else 1)  # RHS evaluations per step (k0 is reused)
         rows.append(dict(solver=solver, dt_s=dt, theta_err_deg=e[0], omega_err_deg_s=e[1],
-                         rhs_evals_per_sim=int(round(DURATION / dt)) * stages,
+                         rhs_evals_per_sim=int(round(DURATION / dt)) * _evals_per_step(solver),
                          interpolated_samples=dt > 1.0 / HZ))
         progress.update()
     sc = []
@@ -179,12 +177,6 @@ def accuracy_table(progress):
         sc.append(dict(rtol=rtol, atol=rtol * 1e-3, theta_err_deg=e[0], omega_err_deg_s=e[1]))
         progress.update()
     return rows, sc
-
-
-def _tableau(name):
-    from ._simulate import _FIXED_SOLVERS
-
-    return _FIXED_SOLVERS[name].tableau
 
 
 def scipy_loop_time(n, rtol, atol, rhs=None, repeat=3):

@@ -412,14 +412,19 @@ _DEFAULT_CHUNK = 200
 _SHARD_MIN_EVALS = 4e6
 
 
+def _evals_per_step(solver_name: str) -> int:
+    """Right-hand-side evaluations per fixed step (an FSAL tableau's last stage is the next k0)."""
+    tableau = _FIXED_SOLVERS[solver_name].tableau
+    return len(tableau.a_lower) + (0 if tableau.fsal else 1)
+
+
 def _rhs_evals(b, kw) -> float:
     """Right-hand-side evaluations of a batched fixed-step solve (inf for the adaptive method)."""
     if kw["method"] != "fixed":
         return math.inf
-    tableau = _FIXED_SOLVERS[kw["solver"]].tableau
     sub, span = _step_plan(kw["dt"], kw["sample_hz"])
     steps = -(-(kw["n"] - 1) // span) * sub
-    return float(b) * steps * (len(tableau.a_lower) + (0 if tableau.fsal else 1))
+    return float(b) * steps * _evals_per_step(kw["solver"])
 
 
 def _simulate_batched(system, b, kw, chunk_size, shard):
