@@ -70,8 +70,7 @@ def results_for_plot(doc: str, default: Path, needs: tuple[str, ...], argv=None)
 
 def plot_main(name: str, default_out: Path, argv=None) -> None:
     """``plot.py``: read the raw results of ``name`` from ``--results`` and write ``NAME.png`` there."""
-    needs = {"design": "design.json", "table2": "table2.json"}.get(name, f"{name}.json")
-    out = results_for_plot(f"plot {name} from its raw results", default_out, (needs,), argv)
+    out = results_for_plot(f"plot {name} from its raw results", default_out, (f"{name}.json",), argv)
     from ._plots import PLOTTERS, load_traces_npz, plot_design, plot_table2
 
     if name == "design":
