@@ -1,4 +1,5 @@
-"""Project-wide JAX configuration: float64 everywhere, and XLA:CPU compiling our time loops whole.
+"""Project-wide JAX configuration: float64 everywhere, XLA:CPU compiling our time loops whole, and
+512-bit vectors where the CPU has them.
 
 Friction at 0.001 deg/s is a small difference of large numbers (bristle deflections of 1e-4 deg,
 breakaway torques of several N*m), so float32 is not an option.
@@ -17,6 +18,15 @@ the hash generator unchanged (README, "Speed" and "Notes").
 XLA reads ``XLA_FLAGS`` when its backend starts, so this takes effect only if nothing has run a
 JAX computation before ``import lugre_jax`` (importing JAX does not start it). A value the user has
 already set for this option is kept; any other ``--xla_backend_extra_options`` are kept too.
+
+XLA:CPU asks LLVM for 256-bit vectors by default (``--xla_cpu_prefer_vector_width=256``), a guard
+against the clock throttling of early AVX-512 CPUs, so on a CPU with AVX-512 a vectorised time
+step uses half its register width. We ask for 512. Measured on this project's 2-core AMD EPYC
+(AVX-512), alternating runs: the benchmark joint (Bosh3, 20 ms) at 1,000 lanes on one device
+41,000 -> 60,000 simulations/s, 10,000 lanes on 2 devices 68,000 -> 93,000-106,000; a reverse-mode
+gradient of 1,000 lanes 38 -> 28 ms; the PSO's 100 seeds 0.152 -> 0.140 s (threefry) and
+0.088 -> 0.075 s (hash); one unbatched solve unchanged. On a CPU without AVX-512 LLVM's vectors
+stay at the hardware's width, so the flag changes nothing there. A value the user has set is kept.
 """
 
 import os
@@ -27,6 +37,8 @@ jax.config.update("jax_enable_x64", True)
 
 SMALL_LOOP_OPTION = "xla_cpu_small_while_loop_byte_threshold"
 SMALL_LOOP_BYTES = 100_000_000
+VECTOR_WIDTH_FLAG = "--xla_cpu_prefer_vector_width"
+VECTOR_WIDTH_BITS = 512
 
 
 def with_backend_option(flags: str, key: str, value) -> str:
@@ -47,5 +59,14 @@ def with_backend_option(flags: str, key: str, value) -> str:
     return " ".join(parts)
 
 
-os.environ["XLA_FLAGS"] = with_backend_option(os.environ.get("XLA_FLAGS", ""), SMALL_LOOP_OPTION,
-                                              SMALL_LOOP_BYTES)
+def with_flag(flags: str, name: str, value) -> str:
+    """``flags`` with ``name=value`` appended, unchanged when it already sets ``name``."""
+    if any(part.split("=", 1)[0] == name for part in flags.split()):
+        return flags
+    return f"{flags} {name}={value}".strip()
+
+
+os.environ["XLA_FLAGS"] = with_flag(
+    with_backend_option(os.environ.get("XLA_FLAGS", ""), SMALL_LOOP_OPTION, SMALL_LOOP_BYTES),
+    VECTOR_WIDTH_FLAG, VECTOR_WIDTH_BITS,
+)

@@ -34,14 +34,15 @@ def _env_flags_after_import(flags):
                           env=env).stdout.strip()
 
 
-def test_import_raises_xlas_small_loop_threshold_keeping_user_flags():
+def test_import_sets_xla_options_keeping_user_flags():
     opt = "xla_cpu_small_while_loop_byte_threshold"
-    assert _env_flags_after_import(None) == f"--xla_backend_extra_options={opt}=100000000"
+    wide = "--xla_cpu_prefer_vector_width=512"
+    assert _env_flags_after_import(None) == f"--xla_backend_extra_options={opt}=100000000 {wide}"
     # other backend options are merged into the same flag, not replaced by a second copy of it
     got = _env_flags_after_import("--xla_cpu_enable_fast_math=false --xla_backend_extra_options=a=1")
-    assert got == f"--xla_cpu_enable_fast_math=false --xla_backend_extra_options=a=1,{opt}=100000000"
-    # a value the user chose is kept
-    mine = f"--xla_backend_extra_options={opt}=4096"
+    assert got == f"--xla_cpu_enable_fast_math=false --xla_backend_extra_options=a=1,{opt}=100000000 {wide}"
+    # values the user chose are kept
+    mine = f"--xla_backend_extra_options={opt}=4096 --xla_cpu_prefer_vector_width=256"
     assert _env_flags_after_import(mine) == mine
 
 
