@@ -408,7 +408,8 @@ _DEFAULT_CHUNK = 200
 # joint, Bosh3 at 20 ms: 2.8-3.1 ms on one device, 5.4 ms on two). Measured on 2 cores, it pays from
 # about 4e6 right-hand-side evaluations per call: that Bosh3 run is even at 1,000 lanes (3e6;
 # 1.06x) and 1.67x at 2,000 (6e6); Heun at 10 ms 1.15-1.2x at 1,000 lanes (4e6); Tsit5 at 2.5 ms
-# 1.5x at 100 lanes (4.8e6). Below it, shard=None runs on one device.
+# 1.5x at 100 lanes (4.8e6). Below it, shard=None runs on one device. Rechecked with 512-bit vectors
+# (see _config): the Bosh3 run 0.85-0.89x at 1,000 lanes and 1.37-1.41x at 2,000.
 _SHARD_MIN_EVALS = 4e6
 
 
