@@ -35,7 +35,7 @@ from . import _config  # noqa: F401
 from ._params import from_vector, to_vector
 from ._simulate import System, _evals_per_step, _rates, _split, broadcast_system, simulate, vector_field
 from .control import VelocityPID, VelocitySteps
-from .friction import LuGre, Segmented
+from .friction import LuGre
 from .plant import PAPER_J, Joint, paper_friction, paper_segment
 
 V_CMD, KP, KI, DURATION, HZ = 0.02, 8.0, 60.0, 20.0, 100.0

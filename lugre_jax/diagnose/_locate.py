@@ -73,7 +73,7 @@ def _reversal_clock(t, v, v_dead):
     """Time since the last change of direction, and the current direction (+1/-1/0)."""
     s = np.where(v > v_dead, 1, np.where(v < -v_dead, -1, 0))
     since = np.full(t.shape, np.inf)
-    cur, last_dir, t_rev = 0, 0, -np.inf
+    last_dir, t_rev = 0, -np.inf
     for i in range(t.size):
         if s[i] != 0 and s[i] != last_dir:
             if last_dir != 0:

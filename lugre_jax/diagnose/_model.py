@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import abc
 import dataclasses
-from typing import Callable
 
 import equinox as eqx
 import jax

@@ -20,7 +20,7 @@ import jax.scipy.linalg as jsl
 import numpy as np
 
 from ..friction import LuGre, Stribeck
-from ._model import AbstractCandidate, Kinematics, Terms, cparam, friction_torque
+from ._model import AbstractCandidate, Terms, cparam, friction_torque
 
 TWO_PI = 2 * np.pi
 
