@@ -25,8 +25,11 @@ step uses half its register width. We ask for 512. Measured on this project's 2-
 (AVX-512), alternating runs: the benchmark joint (Bosh3, 20 ms) at 1,000 lanes on one device
 41,000 -> 60,000 simulations/s, 10,000 lanes on 2 devices 68,000 -> 93,000-106,000; a reverse-mode
 gradient of 1,000 lanes 38 -> 28 ms; the PSO's 100 seeds 0.152 -> 0.140 s (threefry) and
-0.088 -> 0.075 s (hash); one unbatched solve unchanged. On a CPU without AVX-512 LLVM's vectors
-stay at the hardware's width, so the flag changes nothing there. A value the user has set is kept.
+0.088 -> 0.075 s (hash); one unbatched solve unchanged. A CPU without AVX-512 has not been measured:
+there LLVM has to split each 512-bit vector op into 256-bit halves. With XLA limited to AVX2 here
+(``xla_cpu_max_isa=AVX2``) the wide setting was still faster (one core, 1,000 lanes: 52,000
+against 34,000 simulations/s), but we did not check that the option really withholds AVX-512 from
+LLVM. A value the user has set is kept.
 """
 
 import os
