@@ -1,6 +1,6 @@
 """Shared jaxtyping aliases."""
 
-from jaxtyping import Array, ArrayLike, Bool, Float, Int, PRNGKeyArray
+from jaxtyping import Array, ArrayLike, Bool, Float, Int, PRNGKeyArray, PyTree
 
 Scalar = Float[Array, ""]
 ScalarLike = Float[ArrayLike, ""]
@@ -15,6 +15,7 @@ __all__ = [
     "Float",
     "Int",
     "PRNGKeyArray",
+    "PyTree",
     "Scalar",
     "ScalarLike",
     "Population",

@@ -31,6 +31,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from .._fusion import derivative_stored_once, runtime_one
 from .._params import param
 from .._types import Array, ArrayLike, Float
 
@@ -161,8 +162,11 @@ class LuGre(AbstractFrictionModel):
 
     def torque_and_derivative(self, z, v):
         v = jnp.asarray(v)
+        # g's cotangent is read by every parameter's and the state's adjoint: computed once under
+        # reverse mode (see lugre_jax._fusion); the value itself is unchanged.
+        g = derivative_stored_once(self.g(v), runtime_one(v))
         # |v|*z, never v/|v|: the latter is 0/0 at rest.
-        dz = v - self.sigma0 * jnp.abs(v) * z / self.g(v)
+        dz = v - self.sigma0 * jnp.abs(v) * z / g
         return self.sigma0 * z + self.sigma1 * dz + self.sigma2 * v, dz
 
     def bristle_damping(self, v):
