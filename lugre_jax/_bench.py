@@ -12,6 +12,10 @@ calling the jitted JAX vector field (what handing a JAX model to scipy costs). A
 reported, each labelled. Accuracy is measured against a tight reference (LSODA, rtol 1e-11); for scipy at
 rtol 1e-3 (its default) and 1e-4 we pick our cheapest fixed-step configuration whose position error
 is no larger ("matched accuracy") and time that.
+
+Jacobian: a one-segment joint under the same loop, loss = mean squared position tracking error,
+its gradient w.r.t. the six LuGre parameters against the loss alone, both per lane through
+``map_lanes`` (see :func:`jacobian_cost`).
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from scipy.integrate import solve_ivp
 
 from . import _config  # noqa: F401
 from ._params import from_vector, to_vector
-from ._simulate import System, _evals_per_step, _rates, _split, broadcast_system, simulate, vector_field
+from ._simulate import System, _evals_per_step, _rates, _split, broadcast_system, map_lanes, simulate, vector_field
 from .control import VelocityPID, VelocitySteps
 from .friction import LuGre
 from .plant import PAPER_J, Joint, paper_friction, paper_segment
@@ -220,72 +224,93 @@ def _tracking_errors(sol):
     return err, sol.result
 
 
-def jacobian_cost(batch, **cfg):
+def _tracking_mse(q):
+    """Squared position tracking error of one sample [deg^2] (the Jacobian benchmark's loss term)."""
+    return (q.theta - q.theta_ref) ** 2
+
+
+def jacobian_cost(batch, *, loss_kind="sample_mean", devices=(1,), **cfg):
     """Full Jacobian of a trajectory loss w.r.t. the six LuGre parameters vs one forward solve.
 
-    Forward solves, forward-mode Jacobians and reverse-mode gradients each run in chunks of 50 and
-    of 200 lanes (200 is the simulator's default), and each is credited with its faster chunk
-    size: measured, the reverse pass is fastest in chunks of about 50 lanes (its stored residuals
-    then stay in cache) and the forward solve in chunks of 100-200."""
+    The loss of one lane is the mean squared position tracking error over all samples, computed
+    either inside the time loop (``loss_kind="sample_mean"``, ``simulate(..., sample_mean=...)``)
+    or from the stored trajectory (``"trajectory"``). Forward solves, forward-mode Jacobians and
+    reverse-mode gradients all go through the public batching path, ``map_lanes(fn, P)`` with
+    ``fn`` the loss, ``jax.jacfwd(loss)`` or ``jax.grad(loss)`` of one lane. Each is timed in chunks
+    of 40 and of 200 lanes (multiples of the 8-lane vector; measured, reverse mode through stored
+    trajectories was fastest in small chunks, everything else in chunks of 200) on one device and,
+    for each entry of ``devices`` > 1, split across that many host devices; each is credited with
+    its fastest configuration (all timings in the JSON). Forward mode is also timed with the six
+    tangents outermost (one jvp per parameter over a whole chunk), one device."""
     base = System(friction=paper_segment(1), joint=Joint(J=PAPER_J),
                   controller=VelocityPID(kp=KP, ki=KI), reference=VelocitySteps([V_CMD]))
     p0 = to_vector(paper_segment(1))
 
     def loss(p):
         s = eqx.tree_at(lambda s: s.friction, base, from_vector(LuGre, p))
+        if loss_kind == "sample_mean":
+            return simulate(s, DURATION, HZ, sample_mean=_tracking_mse, **cfg).value
         sol = simulate(s, DURATION, HZ, **cfg)
         return jnp.mean((sol.theta - sol.theta_ref) ** 2)
 
     ps = jnp.asarray(p0) * jnp.asarray(np.random.default_rng(4).uniform(0.9, 1.1, (batch, 6)))
     g = jax.vmap(loss)
 
-    def layouts(c):
-        nc = -(-batch // c)
-
-        def padded_chunks(P):  # (batch, 6) -> (nc, c, 6), padded with copies of lane 0
-            return jnp.concatenate([P, jnp.repeat(P[:1], nc * c - batch, 0)]).reshape(nc, c, 6)
-
-        def chunked(f):
-            def run(P):
-                out = jax.lax.map(jax.vmap(f), padded_chunks(P))
-                return out.reshape((nc * c,) + out.shape[2:])[:batch]
-            return jax.jit(run)
-
+    def tangent_outer(c):
         # Tangent axis outermost: one jvp per parameter over a whole chunk, so each tangent is a
         # contiguous chunk-wide vector (vmap(jacfwd) puts the 6 tangents innermost, per lane).
+        nc = -(-batch // c)
         E = jnp.broadcast_to(jnp.eye(6)[:, None, :], (6, c, 6))
 
-        def tangent_outer(P):
-            out = jax.lax.map(lambda Pc: jax.vmap(lambda e: jax.jvp(g, (Pc,), (e,))[1])(E),
-                              padded_chunks(P))  # (nc, 6, c)
+        def run(P):
+            P = jnp.concatenate([P, jnp.repeat(P[:1], nc * c - batch, 0)]).reshape(nc, c, 6)
+            out = jax.lax.map(lambda Pc: jax.vmap(lambda e: jax.jvp(g, (Pc,), (e,))[1])(E), P)
             return jnp.moveaxis(out, 1, 0).reshape(6, nc * c)[:, :batch]
+        return jax.jit(run)
 
-        return dict(forward=chunked(loss), jacfwd=chunked(jax.jacfwd(loss)),
-                    tangent_outer=jax.jit(tangent_outer), reverse=chunked(jax.grad(loss)))
+    def lanes(f, c, ndev):
+        return jax.jit(lambda P: map_lanes(f, P, chunk_size=c, shard=ndev > 1))
 
-    per_chunk = {}
-    for c in sorted({min(batch, 50), min(batch, 200)}):
-        fns = layouts(c)
-        for f in fns.values():
-            jax.block_until_ready(f(ps))
-        np.testing.assert_allclose(np.asarray(fns["tangent_outer"](ps)).T, np.asarray(fns["jacfwd"](ps)),
-                                   rtol=1e-8, atol=1e-14)
-        np.testing.assert_allclose(np.asarray(fns["reverse"](ps)), np.asarray(fns["jacfwd"](ps)),
-                                   rtol=1e-7, atol=1e-14)
-        per_chunk[c] = {k: _timeit(lambda f=f: f(ps)) for k, f in fns.items()}
-    best = {k: min(t[k] for t in per_chunk.values()) for k in ("forward", "jacfwd", "tangent_outer", "reverse")}
-    t_f, t_jf, t_jt, t_jr = best["forward"], best["jacfwd"], best["tangent_outer"], best["reverse"]
+    timings = {}
+    for ndev in sorted({1, *devices}):
+        if ndev > len(jax.devices()):
+            continue
+        for c in sorted({min(batch, 40), min(batch, 200)}):
+            fns = dict(forward=lanes(loss, c, ndev), reverse=lanes(jax.grad(loss), c, ndev))
+            if ndev == 1:
+                fns.update(jacfwd=lanes(jax.jacfwd(loss), c, ndev), tangent_outer=tangent_outer(c))
+            for f in fns.values():
+                jax.block_until_ready(f(ps))
+            if ndev == 1:
+                np.testing.assert_allclose(np.asarray(fns["tangent_outer"](ps)).T, np.asarray(fns["jacfwd"](ps)),
+                                           rtol=1e-8, atol=1e-14)
+                np.testing.assert_allclose(np.asarray(fns["reverse"](ps)), np.asarray(fns["jacfwd"](ps)),
+                                           rtol=1e-7, atol=1e-14)
+            timings[f"{ndev}dev_chunk{c}"] = {k: _timeit(lambda f=f: f(ps), repeat=7) for k, f in fns.items()}
+
+    def best(mode, ndev=None):
+        return min(t[mode] for k, t in timings.items() if mode in t and (ndev is None or k.startswith(f"{ndev}dev")))
+
+    t_f, t_jf, t_jt, t_jr = best("forward", 1), best("jacfwd", 1), best("tangent_outer", 1), best("reverse", 1)
     # The loss is a scalar, so its full Jacobian is one gradient: reverse mode computes it in one
     # backward pass, forward mode in six tangents. Both are timed; the cheaper is the figure.
     modes = dict(forward=min(t_jf, t_jt), reverse=t_jr)
     mode = min(modes, key=modes.get)
-    return dict(batch=batch, forward_s=t_f, jacfwd_s=t_jf, jvp_tangent_outer_s=t_jt,
-                grad_reverse_s=t_jr, jacfwd_over_forward=t_jf / t_f,
-                jvp_tangent_outer_over_forward=t_jt / t_f,
-                best_forward_mode_over_forward=min(t_jf, t_jt) / t_f,
-                reverse_over_forward=t_jr / t_f,
-                jacobian_over_forward=modes[mode] / t_f, cheaper_mode=mode,
-                seconds_by_chunk={str(c): t for c, t in per_chunk.items()})
+    out = dict(batch=batch, loss=loss_kind, forward_s=t_f, jacfwd_s=t_jf, jvp_tangent_outer_s=t_jt,
+               grad_reverse_s=t_jr, jacfwd_over_forward=t_jf / t_f,
+               jvp_tangent_outer_over_forward=t_jt / t_f,
+               best_forward_mode_over_forward=min(t_jf, t_jt) / t_f,
+               reverse_over_forward=t_jr / t_f,
+               jacobian_over_forward=modes[mode] / t_f, cheaper_mode=mode,
+               seconds_by_configuration=timings)
+    if any(k.startswith("2dev") for k in timings):
+        # Wall time on this machine, each computation in its fastest configuration (device count
+        # and chunk): the second device pays for a gradient's ~4x work sooner than for a solve's.
+        t_f_any, t_j_any = best("forward"), min(best("reverse"), modes["forward"])
+        out.update(forward_best_devices_s=t_f_any, jacobian_best_devices_s=t_j_any,
+                   jacobian_over_forward_best_devices=t_j_any / t_f_any,
+                   forward_two_devices_s=best("forward", 2), grad_reverse_two_devices_s=best("reverse", 2))
+    return out
 
 
 def rhs_floor(n=200, reps=20_000):
@@ -459,12 +484,13 @@ def run_benchmark(quick: bool = False, progress=None) -> dict:
     top = out[f"best_config_rtol1e-03_b{bmax}"]
     fast = dict(solver=top["solver"], dt=top["dt_s"])
     out["fast_config"] = fast
-    # The Jacobian's ratio depends on how well the forward solve itself is fused: at batch 1 the
-    # forward loop is scalar code XLA fuses into a few kernels, while the six tangents are vectors
-    # of ops dispatched one kernel at a time, so the ratio is large there although the Jacobian
-    # takes only a few ms. Pinned to one core (taskset) the ratios are the same as on two.
+    # The Jacobian's primary loss is reduced inside the time loop (sample_mean); the same loss
+    # through the stored trajectory is reported beside it. At the largest batch both are also
+    # timed on two host devices (see jacobian_cost).
     for b in jac_batches:
-        out[f"jacobian_b{b}"] = jacobian_cost(b, **fast)
+        ndev = (1, 2) if two and b == max(jac_batches) else (1,)
+        out[f"jacobian_b{b}"] = jacobian_cost(b, loss_kind="sample_mean", devices=ndev, **fast)
+        out[f"jacobian_b{b}_trajectory_loss"] = jacobian_cost(b, loss_kind="trajectory", **fast)
         bar.update()
     fl = rhs_floor()
     evals = next(r["rhs_evals_per_sim"] for r in rows if (r["solver"], r["dt_s"]) == (fast["solver"], fast["dt"]))
