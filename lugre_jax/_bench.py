@@ -237,8 +237,8 @@ def jacobian_cost(batch, *, loss_kind="sample_mean", devices=(1,), **cfg):
     or from the stored trajectory (``"trajectory"``). Forward solves, forward-mode Jacobians and
     reverse-mode gradients all go through the public batching path, ``map_lanes(fn, P)`` with
     ``fn`` the loss, ``jax.jacfwd(loss)`` or ``jax.grad(loss)`` of one lane. Each is timed in chunks
-    of 40 and of 200 lanes (multiples of the 8-lane vector; measured, reverse mode through stored
-    trajectories was fastest in small chunks, everything else in chunks of 200) on one device and,
+    of 64 lanes (map_lanes' default: a reverse pass's stored states stay in cache) and of 200
+    (simulate's default: fastest for forward solves) on one device and,
     for each entry of ``devices`` > 1, split across that many host devices; each is credited with
     its fastest configuration (all timings in the JSON). Forward mode is also timed with the six
     tangents outermost (one jvp per parameter over a whole chunk), one device."""
@@ -275,7 +275,7 @@ def jacobian_cost(batch, *, loss_kind="sample_mean", devices=(1,), **cfg):
     for ndev in sorted({1, *devices}):
         if ndev > len(jax.devices()):
             continue
-        for c in sorted({min(batch, 40), min(batch, 200)}):
+        for c in sorted({min(batch, 64), min(batch, 200)}):
             fns = dict(forward=lanes(loss, c, ndev), reverse=lanes(jax.grad(loss), c, ndev))
             if ndev == 1:
                 fns.update(jacfwd=lanes(jax.jacfwd(loss), c, ndev), tangent_outer=tangent_outer(c))
