@@ -461,8 +461,8 @@ def simulate(
     of the trajectory is stored, and a gradient's backward pass reads no trajectory of
     cotangents. For a loss that is a mean over samples (tracking errors, a fit to measured data
     through ``Sample.index``) this is the fast path: measured on the benchmark's one-segment joint
-    (1,000 lanes, README "Derivatives"), the forward solve 5.0 -> 3.7 ms and its reverse-mode
-    gradient 25 -> 16 ms against the same loss through ``reduce``. ``SampleMean.or_inf()`` makes
+    (1,000 lanes, one core, README "Benchmark"), the forward solve 4.7 -> 3.8 ms and its
+    reverse-mode gradient 21 -> 14 ms against the same loss read from the stored trajectory. ``SampleMean.or_inf()`` makes
     failed lanes infinitely bad. The adaptive method computes the same mean from its samples.
     """
     if method not in ("fixed", "adaptive"):
@@ -537,9 +537,11 @@ def _simulate_batched(system, b, kw, chunk_size, shard):
     return eqx.tree_at(lambda s: s.ts, sol, sol.ts[0])
 
 
-def _chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_chunk: int = None):
+def _chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_chunk: int = None,
+                   lane_multiple: int = 1):
     """``jax.vmap(one_lane)(tree)`` over the ``b`` lanes (leading axis) of ``tree``'s arrays, in
-    chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable)."""
+    chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable). A
+    default chunk of more than ``lane_multiple`` lanes is rounded up to a multiple of it."""
     default_chunk = default_chunk or _DEFAULT_CHUNK
     devices = jax.devices()
     ndev = max(1, min(len(devices) if shard else 1, b))
@@ -550,6 +552,8 @@ def _chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default
         # chunk per device. Balanced so that padding stays below one lane per chunk.
         n_chunks = -(-per_dev // default_chunk)
         chunk = -(-per_dev // n_chunks)
+        if chunk > lane_multiple:
+            chunk = -(-chunk // lane_multiple) * lane_multiple
     else:
         chunk = max(1, min(int(chunk_size), per_dev))
     per_dev = -(-per_dev // chunk) * chunk
@@ -599,7 +603,7 @@ def _compiled(ndev: int, chunk: int, key, one_lane):
         if n_lanes > chunk:
             # Under reverse mode, a lax.map stores every iteration's residuals before its first
             # backward step: all chunks' stored states at once, out of cache (measured: the
-            # gradient of 1,000 lanes in 5 chunks 53 ms, against 17 ms chunk by chunk). Each chunk
+            # gradient of 1,000 lanes in 5 chunks 53 ms; 21 ms with this; map_lanes 14 ms). Each chunk
             # is recomputed instead, just before its own backward sweep: one more forward sweep.
             # A forward solve is unaffected. For per-lane gradients use map_lanes, which
             # differentiates chunk by chunk and needs neither.
@@ -626,29 +630,32 @@ def map_lanes(fn, xs: PyTree, *, chunk_size: int | None = None, shard: bool | No
 
     ``xs`` is a pytree whose array leaves share a leading lane axis (e.g. parameter sets (n, 6), or a
     batched :class:`System`); ``fn`` maps one lane to a pytree. Lanes go ``chunk_size`` at a time
-    (default ~64, balanced) and, with ``shard=True`` or by default when several host devices exist
-    and there are at least 400 lanes, split across devices. The default chunk is the reverse
-    pass's: it stores each lane's state at every step, and in chunks of 200 (simulate's default,
-    best for forward solves) that left the cache. Measured, gradients of 1,000 one-segment lanes
-    (Bosh3, 20 ms, 20 s): 13.99-14.52 ms in chunks of 48-104 lanes, 22 ms in chunks of 200, 32-39 ms
-    in chunks of 24-32; on two devices 7.9-9.1 ms against 16 ms.
+    (default ~64, balanced, a multiple of 8) and, with ``shard=True`` or by default when several
+    host devices exist and there are at least 400 lanes, split across devices. The default chunk
+    is the reverse pass's: it stores each lane's state at every step, and in chunks of 200
+    (simulate's default, best for forward solves) that left the cache; and a chunk that is not a
+    multiple of the 8 float64 lanes of a 512-bit vector is slow. Measured, gradients of 1,000
+    one-segment lanes (Bosh3, 20 ms, 20 s), one core: 14.0-16.8 ms in chunks of 56, 64, 72 or 104
+    lanes, 17.1 ms in chunks of 100, 23 ms in chunks of 63 or 200, 32-39 ms in chunks of 24-32; on
+    two devices 7.9-9.1 ms against 16 ms in chunks of 200.
 
     The use it is for: per-lane derivatives of per-lane losses, e.g. a swarm's gradients,
     ``map_lanes(jax.value_and_grad(loss), P)`` with ``loss(p)`` simulating one lane (ideally with
     ``simulate(..., sample_mean=...)``). Each chunk is differentiated on its own, so a reverse
     pass's stored states stay in cache. ``jax.grad`` of a sum over one batched ``simulate`` call
-    gives the same numbers but has to run every chunk's forward solve before any backward sweep
-    (README, "Derivatives": 1,000 lanes ~20 ms against ~16 ms here, one device).
+    gives the same numbers, but it recomputes each chunk's forward solve before that chunk's
+    backward sweep (README, "Simulator": 1,000 lanes 21 ms against 14 ms here, one core).
     """
     if not callable(fn):
         raise ValueError(f"map_lanes needs a function of one lane, got {type(fn).__name__}")
     b = _lane_count(xs, "map_lanes", "give every array leaf of xs the same leading (lane) axis")
     if shard is None:
         shard = len(jax.devices()) > 1 and b >= 2 * _DEFAULT_CHUNK
-    return _chunked_lanes(("map_lanes", fn), fn, xs, b, chunk_size, shard, _MAP_LANES_CHUNK)
+    return _chunked_lanes(("map_lanes", fn), fn, xs, b, chunk_size, shard, _MAP_LANES_CHUNK, _VECTOR_LANES)
 
 
 _MAP_LANES_CHUNK = 64
+_VECTOR_LANES = 8  # float64 lanes of the 512-bit vectors lugre_jax asks XLA for (see _config)
 
 
 def trajectory_loss(sol: Solution, reduce) -> Array:

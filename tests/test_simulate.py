@@ -418,3 +418,16 @@ def test_map_lanes_equals_vmap_and_grad_through_chunks_is_exact():
     np.testing.assert_allclose(jax.grad(total)(P), g0, rtol=1e-10, atol=1e-20)
     with pytest.raises(ValueError, match="same leading"):
         lj.map_lanes(loss, dict(a=jnp.zeros(3), b=jnp.zeros(4)))
+
+
+def test_map_lanes_default_chunks_are_whole_vectors():
+    # By default map_lanes balances ~64-lane chunks and rounds them up to a multiple of the 8 float64
+    # lanes of a 512-bit vector (1,000 lanes: 16 chunks of 64, not of 63; measured 14 vs 23 ms for
+    # gradients); below 8 lanes a chunk is the batch. The compiled function's key holds the chunk.
+    from lugre_jax import _simulate
+
+    for b, chunk in ((1000, 64), (130, 48), (5, 5)):  # 130: 3 chunks of 44, rounded up to 48
+        _simulate._CACHE.clear()
+        out = lj.map_lanes(lambda x: 2.0 * x, jnp.arange(float(b)), shard=False)
+        np.testing.assert_array_equal(np.asarray(out), 2.0 * np.arange(b))
+        assert [k[1] for k in _simulate._CACHE] == [chunk], (b, list(_simulate._CACHE))
