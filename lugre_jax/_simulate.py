@@ -333,7 +333,8 @@ def _solve_fixed(system: System, n: int, sample_hz: float, dt: float, solver_nam
         shapes = jax.eval_shape(sample_fn, _sample(system, jnp.asarray(0), jnp.asarray(0.0), y0))
         acc0 = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
     init = (y0, k0, jnp.asarray(True), acc0)
-    (_, _, ok, acc), ys = jax.lax.scan(jax.checkpoint(block, policy=_REMAT_POLICY), init, jnp.arange(n_blocks))
+    body = jax.checkpoint(block, policy=_REMAT_POLICY)
+    (_, _, ok, acc), ys = jax.lax.scan(body, init, jnp.arange(n_blocks))
     code = jnp.where(ok, RESULT_OK, RESULT_NONFINITE)
     if sample_fn is not None:
         return jax.tree.map(lambda a: a / n, acc), code
@@ -462,8 +463,9 @@ def simulate(
     cotangents. For a loss that is a mean over samples (tracking errors, a fit to measured data
     through ``Sample.index``) this is the fast path: measured on the benchmark's one-segment joint
     (1,000 lanes, one core, README "Benchmark"), the forward solve 4.7 -> 3.8 ms and its
-    reverse-mode gradient 21 -> 14 ms against the same loss read from the stored trajectory. ``SampleMean.or_inf()`` makes
-    failed lanes infinitely bad. The adaptive method computes the same mean from its samples.
+    reverse-mode gradient 21 -> 14 ms against the same loss read from the stored trajectory.
+    ``SampleMean.or_inf()`` makes failed lanes infinitely bad. The adaptive method computes the
+    same mean from its samples.
     """
     if method not in ("fixed", "adaptive"):
         raise ValueError(f"method must be 'fixed' or 'adaptive', got {method!r}")
@@ -549,7 +551,8 @@ def _chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default
     if chunk_size is None:
         # Chunks of ~_DEFAULT_CHUNK lanes keep a step's working set in cache: measured on the
         # benchmark (2-core CPU, 10,000 lanes) 19,700 sims/s against 7,700 for one 5,000-lane
-        # chunk per device. Balanced so that padding stays below one lane per chunk.
+        # chunk per device. Balanced so that padding stays below one lane per chunk, or below
+        # ``lane_multiple`` lanes per chunk when chunks are rounded up to whole vectors.
         n_chunks = -(-per_dev // default_chunk)
         chunk = -(-per_dev // n_chunks)
         if chunk > lane_multiple:
@@ -645,6 +648,9 @@ def map_lanes(fn, xs: PyTree, *, chunk_size: int | None = None, shard: bool | No
     pass's stored states stay in cache. ``jax.grad`` of a sum over one batched ``simulate`` call
     gives the same numbers, but it recomputes each chunk's forward solve before that chunk's
     backward sweep (README, "Simulator": 1,000 lanes 21 ms against 14 ms here, one core).
+
+    ``fn`` is part of the compilation's key, as with ``jax.jit``: pass the same function object to
+    reuse the compiled program (a new lambda per call compiles anew).
     """
     if not callable(fn):
         raise ValueError(f"map_lanes needs a function of one lane, got {type(fn).__name__}")

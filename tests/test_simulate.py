@@ -377,7 +377,8 @@ def test_derivative_barriers_shrink_the_backward_pass_and_change_nothing(monkeyp
 
     def compiled_counts():
         hlo = jax.jit(jax.grad(loss)).lower(s0).compile().as_text()
-        count = {op: len(re.findall(rf"= f64\[\d*\]\S* {op}\(", hlo)) for op in ("multiply", "add", "subtract", "divide")}
+        count = {op: len(re.findall(rf"= f64\[\d*\]\S* {op}\(", hlo))
+                 for op in ("multiply", "add", "subtract", "divide")}
         return count["multiply"] + count["add"] + count["subtract"], count["divide"], jax.grad(loss)(s0)
 
     s0 = jnp.asarray(base.friction.sigma0)
@@ -411,7 +412,8 @@ def test_map_lanes_equals_vmap_and_grad_through_chunks_is_exact():
     assert float(jnp.max(jnp.abs(g[0] - g[-1]))) > 0  # premise: lanes differ
 
     def total(P):
-        s = eqx.tree_at(lambda s: s.friction, lj.broadcast_system(base, 7), lj._params.from_vector(lj.LuGre, P))
+        s = eqx.tree_at(lambda s: s.friction, lj.broadcast_system(base, 7),
+                        lj._params.from_vector(lj.LuGre, P))
         return jnp.sum(lj.simulate(s, 2.0, 100.0, batched=True, chunk_size=3, shard=False, dt=0.02,
                                    solver="bosh3", sample_mean=_tracking).value)
 
