@@ -305,7 +305,7 @@ def jacobian_cost(batch, *, loss_kind="sample_mean", devices=(1,), **cfg):
                seconds_by_configuration=timings)
     if any(k.startswith("2dev") for k in timings):
         # Wall time on this machine, each computation in its fastest configuration (device count
-        # and chunk): the second device pays for a gradient's ~4x work sooner than for a solve's.
+        # and chunk), which may differ between the forward solve and the Jacobian.
         t_f_any, t_j_any = best("forward"), min(best("reverse"), modes["forward"])
         out.update(forward_best_devices_s=t_f_any, jacobian_best_devices_s=t_j_any,
                    jacobian_over_forward_best_devices=t_j_any / t_f_any,

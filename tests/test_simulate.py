@@ -286,10 +286,15 @@ def test_auto_sharding_only_for_enough_work():
             "    lj.simulate(lj.broadcast_system(s, b), 1.0, 100.0, batched=True, dt=0.02, solver='bosh3', shard=shard)\n"
             "    print(next(iter(S._CACHE))[0])\n"
             "kw = dict(method='fixed', solver='bosh3', dt=0.02, sample_hz=100.0, n=2001)\n"
-            "print(S._rhs_evals(2000, kw) >= S._SHARD_MIN_EVALS, S._rhs_evals(1000, kw) >= S._SHARD_MIN_EVALS)\n")
+            "print(S._rhs_evals(2000, kw) >= S._SHARD_MIN_EVALS, S._rhs_evals(1000, kw) >= S._SHARD_MIN_EVALS)\n"
+            "import jax.numpy as jnp\n"
+            "for b in (127, 128):  # map_lanes splits from two default chunks (128 lanes) on\n"
+            "    S._CACHE.clear()\n"
+            "    lj.map_lanes(lambda x: 2 * x, jnp.arange(float(b)))\n"
+            "    print(next(iter(S._CACHE))[0])\n")
     env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
-    assert out.stdout.split() == ["1", "2", "True", "False"], out.stdout + out.stderr
+    assert out.stdout.split() == ["1", "2", "True", "False", "1", "2"], out.stdout + out.stderr
 
 
 def _tracking(q):
