@@ -9,7 +9,7 @@ Subpackages: ``friction``, ``plant``, ``control``, ``identify``, ``dynamic``, ``
 ``reproduce``; module ``metrics``.
 """
 
-from . import _config  # noqa: F401  (enables float64 before anything is traced)
+from .xla import configure as configure
 from ._params import bounds_of as bounds_of, names_of as names_of, units_of as units_of
 from ._simulate import (
     RESULT_NONFINITE as RESULT_NONFINITE,

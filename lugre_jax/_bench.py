@@ -35,7 +35,6 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from . import _config  # noqa: F401
 from ._params import from_vector, to_vector
 from ._simulate import System, _evals_per_step, _rates, _split, broadcast_system, map_lanes, simulate, vector_field
 from .control import VelocityPID, VelocitySteps
@@ -343,6 +342,7 @@ def rhs_floor(n=200, reps=20_000):
 _MEM_SCRIPT = r"""
 import os, sys, time, resource, json
 os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=%d"
+import lugre_jax; lugre_jax.configure()
 import jax, numpy as np
 from lugre_jax._bench import bench_system, lane_factors, _tracking_errors, DURATION, HZ
 from lugre_jax import simulate

@@ -38,6 +38,7 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from ._fusion import derivative_stored_once, runtime_one
 from ._fusion import stored_once as _stored_once
+from .xla import require_x64
 from ._types import Array, Float, Int, PyTree
 from .control import AbstractController, AbstractReference
 from .control._controllers import CtrlIn
@@ -468,6 +469,7 @@ def simulate(
     ``SampleMean.or_inf()`` makes failed lanes infinitely bad. The adaptive method computes the
     same mean from its samples.
     """
+    require_x64()
     if method not in ("fixed", "adaptive"):
         raise ValueError(f"method must be 'fixed' or 'adaptive', got {method!r}")
     if sample_mean is not None and reduce is not None:

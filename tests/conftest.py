@@ -2,8 +2,7 @@ import os
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-import jax  # noqa: E402
+import lugre_jax  # noqa: E402
 
-jax.config.update("jax_enable_x64", True)
-
-import lugre_jax  # noqa: E402,F401
+# The library changes nothing on import; the test session opts in, as a user script would.
+lugre_jax.configure()

@@ -31,6 +31,9 @@ from lugre_jax.diagnose import diagnose, effect_torques, public_report
 from lugre_jax.diagnose._select import _all_specs
 from lugre_jax.io import write_csv, write_json
 from lugre_jax.io._emps import EMPS_REFERENCE, default_emps_path, emps_idim_ls, load_emps
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 CONFIGS = {
     "benchmark_structure": dict(friction="coulomb_viscous", fit_offset=True),

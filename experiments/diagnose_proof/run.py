@@ -33,6 +33,9 @@ from tqdm import tqdm
 
 import lugre_jax  # noqa: F401
 from lugre_jax.diagnose import CANDIDATES, diagnose, effect_instance, effect_torques, make_recording
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 EFFECTS = list(CANDIDATES)
 KEY_PARAMS = {  # report key -> attribute of the true effect module

@@ -12,6 +12,9 @@ import numpy as np
 from lugre_jax.identify._schemes import smooth_segments
 from lugre_jax.io import write_csv, write_json
 from lugre_jax.io._stribeck_data import load_stribeck_csv
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 ROOT = Path(__file__).resolve().parents[2]
 

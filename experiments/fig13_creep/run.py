@@ -16,6 +16,9 @@ import numpy as np
 
 import lugre_jax as lj
 from lugre_jax.io import write_csv, write_json
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 VELOCITIES = (0.1, 0.01, 0.005, 0.001)  # deg/s, Fig. 13 a-d
 BAND = 0.001  # deg/s: the +-0.001 deg/s velocity band of Fig. 13

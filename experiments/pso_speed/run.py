@@ -29,6 +29,9 @@ from static_problem import Problem  # noqa: E402
 
 from lugre_jax.identify import optimise  # noqa: E402
 from lugre_jax.io._atomic import write_json  # noqa: E402
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 
 def exp_floor(n_seeds: int, n_particles: int, n_points: int, n_iters: int, repeats: int) -> dict:

@@ -20,6 +20,9 @@ from tqdm import tqdm
 from lugre_jax.identify._schemes import identify_piecewise, identify_whole
 from lugre_jax.io import write_csv, write_json
 from lugre_jax.io._epos import load_epos_steady_state
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVES = ("driveNo1", "driveNo3")

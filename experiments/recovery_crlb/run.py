@@ -21,6 +21,9 @@ from lugre_jax.identify._data_gen import paper_like_velocities, sample_stribeck_
 from lugre_jax.identify._schemes import curve, identify_whole
 from lugre_jax.identify._uncertainty import crlb
 from lugre_jax.io import write_csv, write_json
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 TRUTH = np.array([0.9, 2.4, 0.05, 3.0])
 NAMES = ("Fc", "Fs", "vs", "sigma2")

@@ -14,6 +14,9 @@ import numpy as np
 from lugre_jax.identify._schemes import identify_piecewise, identify_whole
 from lugre_jax.io import write_csv, write_json
 from lugre_jax.io._stribeck_data import load_stribeck_csv
+import lugre_jax as _lj  # noqa: E402
+
+_lj.configure()  # this script opts in to float64 and the XLA options
 
 ROOT = Path(__file__).resolve().parents[2]
 WINDOWS = {"near_0.05": (0.02, 0.08), "near_1.2": (1.05, 1.35), "all": (0.0, 2.0)}

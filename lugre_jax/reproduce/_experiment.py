@@ -21,6 +21,9 @@ def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
                          "setup.json of a `lugre-jax reproduce` run to share one identification across folders")
     ap.add_argument("--quick", action="store_true", help="reduced optimiser settings")
     a = ap.parse_args(argv)
+    from ..xla import configure
+
+    configure()
     from ._plots import save_traces_npz
     from ._run import SCENARIOS, seed_study
     from ._setup import build_setup
