@@ -22,12 +22,14 @@ def _plt():
 
 def _step_axes(ax, traces: dict, v: float, title: str, band: bool = True):
     t = next(iter(traces.values()))["t"]
-    ax.plot(t, v * t, "r-", lw=1.5, label=f"ideal {v:g} deg/s")
+    # Reference lines in black/grey, outside the colour cycle the traces use: with four or more
+    # traces the cycle reaches red, which a red "ideal" line would share (Fig. 10c).
+    ax.plot(t, v * t, "k-", lw=1.5, label=f"ideal {v:g} deg/s")
     if band:
-        ax.plot(t, (v + BAND) * t, "b:", lw=1, label=f"+{BAND:g} deg/s bound")
-        ax.plot(t, max(v - BAND, 0.0) * t, "g:", lw=1, label=f"-{BAND:g} deg/s bound")
-    for k, tr in traces.items():
-        ax.plot(tr["t"], tr["theta"], lw=1.2, label=k)
+        ax.plot(t, (v + BAND) * t, ":", color="0.45", lw=1, label=f"+{BAND:g} deg/s bound")
+        ax.plot(t, max(v - BAND, 0.0) * t, "-.", color="0.45", lw=1, label=f"-{BAND:g} deg/s bound")
+    for i, (k, tr) in enumerate(traces.items()):
+        ax.plot(tr["t"], tr["theta"], lw=1.2, color=f"C{i % 10}", label=k)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("angle [deg]")
     ax.set_title(title, fontsize=10)

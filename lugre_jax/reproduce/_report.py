@@ -378,7 +378,8 @@ def write_report(out: Path, rows: list[dict], setup, timings: dict, quick: bool)
     for r in rows:
         fig = f" ([png]({r['figure']}))" if r.get("figure") else ""
         cells = [r["id"] + fig, r["paper_claim"], r["ours"], r["verdict"], r["why"]]
-        lines.append("| " + " | ".join(c.replace("|", "/").replace("\n", " ") for c in cells) + " |")
+        # A literal | would end the cell; GitHub-flavoured Markdown reads \| as the character.
+        lines.append("| " + " | ".join(c.replace("|", "\\|").replace("\n", " ") for c in cells) + " |")
     lines += ["", "Identified static models (RMS against the averaged data):", ""]
     for k, v in setup.static_params.items():
         segs = "; ".join(f"[{float(s['v_range'][0]):g}, {float(s['v_range'][1]):g}] Fc={_f(s['Fc'])} Fs={_f(s['Fs'])} vs={_f(s['vs'])} "
