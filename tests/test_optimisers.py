@@ -17,6 +17,7 @@ from lugre_jax.identify import (
     decode,
     encode,
     evaluate,
+    minimise,
     optimise,
     paper_fitness,
     result_name,
@@ -44,14 +45,14 @@ KEY = jax.random.key(20200284)
 CASES = [
     ("pso", {}, "sphere", 3, 1e-4),
     ("pso", {}, "rosenbrock", 2, 2e-2),
-    ("gapso", {"ga_generations": 1}, "sphere", 3, 1e-4),
-    pytest.param("gapso", {"pso": {"n_iterations": 30}}, "rosenbrock", 2, 5e-2, marks=pytest.mark.slow),
+    ("gapso", {"ga_steps": 1}, "sphere", 3, 1e-4),
+    pytest.param("gapso", {"pso": {"max_steps": 30}}, "rosenbrock", 2, 5e-2, marks=pytest.mark.slow),
     # The paper's GA (20 x 20) is too small to pin a 10-bit optimum; 60 x 80 finds it to ~1 LSB.
-    ("ga", {"pop_size": 60, "generations": 80}, "sphere", 2, 0.05),
-    ("ga_real", {"pop_size": 50, "generations": 150}, "sphere", 3, 1e-2),
-    ("cmaes", {"generations": 300}, "rosenbrock", 4, 1e-4),
-    pytest.param("de", {"pop_size": 30, "generations": 300}, "sphere", 3, 1e-4, marks=pytest.mark.slow),
-    ("de", {"pop_size": 20, "generations": 150, "base": "best"}, "sphere", 2, 1e-4),
+    ("ga", {"pop_size": 60, "max_steps": 80}, "sphere", 2, 0.05),
+    ("ga_real", {"pop_size": 50, "max_steps": 150}, "sphere", 3, 1e-2),
+    ("cmaes", {"max_steps": 300}, "rosenbrock", 4, 1e-4),
+    pytest.param("de", {"pop_size": 30, "max_steps": 300}, "sphere", 3, 1e-4, marks=pytest.mark.slow),
+    ("de", {"pop_size": 20, "max_steps": 150, "base": "best"}, "sphere", 2, 1e-4),
     ("lm", {"max_steps": 200}, "rosenbrock", 4, 1e-6),
     ("bfgs", {"max_steps": 300}, "rosenbrock", 3, 1e-5),
 ]
@@ -80,15 +81,15 @@ def test_known_minimum(method, settings, problem, dim, tol):
     np.testing.assert_allclose(r.history[:, -1], r.loss_global)
     assert np.all(np.diff(r.evals_history, axis=1) >= 0) and np.all(r.n_evals > 0)
     if method == "gapso":
-        n_it, g = settings.get("pso", {}).get("n_iterations", 100), settings.get("ga_generations") or 20
+        n_it, g = settings.get("pso", {}).get("max_steps", 100), settings.get("ga_steps") or 20
         assert r.history.shape == (n_seeds, n_it + 1)
         assert np.all(r.n_evals == 100 + n_it * (20 + g * 19 + 100))  # the paper's settings: 500 per iteration
 
 
 def test_evaluation_counts_are_the_documented_ones():
-    r = optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_particles=10, n_iterations=5)
+    r = optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_particles=10, max_steps=5)
     assert r.n_evals[0] == 10 * 6
-    r = optimise("ga", shifted_sphere, LO3, HI3, key=KEY, pop_size=20, generations=20)
+    r = optimise("ga", shifted_sphere, LO3, HI3, key=KEY, pop_size=20, max_steps=20)
     assert r.n_evals[0] == 20 + 20 * 19
     # GA-PSO: per iteration the GA encodes 20 particles (20 evaluations), runs its generations
     # (19 each, one elite kept) and the swarm moves (100); checked in test_known_minimum[gapso-sphere3]
@@ -105,9 +106,9 @@ def test_bounds_respected_when_minimum_is_outside(method):
     res = lambda x: x - target  # noqa: E731
     loss = lambda x: 0.5 * jnp.sum(res(x) ** 2)  # noqa: E731
     lo, hi = -jnp.ones(2), jnp.ones(2)
-    settings = {"pso": {"n_iterations": 20}, "gapso": {"ga_generations": 1, "pso": {"n_iterations": 20}},
-                "ga": {"pop_size": 60, "generations": 80}, "ga_real": {}, "cmaes": {"generations": 60},
-                "de": {"generations": 60}, "lm": {}}[method]
+    settings = {"pso": {"max_steps": 20}, "gapso": {"ga_steps": 1, "pso": {"max_steps": 20}},
+                "ga": {"pop_size": 60, "max_steps": 80}, "ga_real": {}, "cmaes": {"max_steps": 60},
+                "de": {"max_steps": 60}, "lm": {}}[method]
     r = optimise(method, loss, lo, hi, key=KEY, n_seeds=3, residual_fn=res, **settings)
     assert np.all(r.x >= -1.0) and np.all(r.x <= 1.0)
     tol = 0.05 if method in ("ga", "ga_real") else 1e-3
@@ -115,7 +116,7 @@ def test_bounds_respected_when_minimum_is_outside(method):
 
 
 def test_hash_uniform_moments_and_pso_with_it():
-    from lugre_jax.identify._pso import hash_uniform
+    from lugre_jax.identify import hash_uniform
 
     u = np.asarray(hash_uniform(KEY, (400, 500))).ravel()
     assert u.min() >= 0.0 and u.max() < 1.0
@@ -131,25 +132,25 @@ def test_hash_uniform_moments_and_pso_with_it():
 
 def test_pso_swarm_stays_in_box():
     lo, hi = jnp.array([0.0, -1.0]), jnp.array([1.0, 3.0])
-    out = PSO(n_particles=30, n_iterations=25).run(KEY, lambda x: -jnp.sum(x**2), lo, hi)
+    out = minimise(PSO(n_particles=30, max_steps=25), lambda x: -jnp.sum(x**2), (lo, hi), KEY)
     x = out.state.x
     assert bool(jnp.all((x >= lo) & (x <= hi)))
     assert bool(jnp.all((out.state.pbest >= lo) & (out.state.pbest <= hi)))
 
 
 def test_seeds_are_independent_and_reproducible():
-    r = optimise("pso", rosenbrock, -2 * jnp.ones(2), 2 * jnp.ones(2), key=KEY, n_seeds=4, n_iterations=5)
+    r = optimise("pso", rosenbrock, -2 * jnp.ones(2), 2 * jnp.ones(2), key=KEY, n_seeds=4, max_steps=5)
     # different seeds explore differently after 5 iterations
     assert len(np.unique(np.round(r.history[:, 1], 12))) == 4
     # seed i of a batch equals a single run with the i-th split key
     keys = jax.random.split(KEY, 4)
-    single = PSO(n_iterations=5).run(keys[2], rosenbrock, -2 * jnp.ones(2), 2 * jnp.ones(2))
+    single = minimise(PSO(max_steps=5), rosenbrock, (-2 * jnp.ones(2), 2 * jnp.ones(2)), keys[2])
     np.testing.assert_allclose(np.asarray(single.history_loss), r.history[2], rtol=1e-12)
 
 
 def test_hyperparameters_vmap():
-    psos = eqx.filter_vmap(lambda w: PSO(n_particles=20, n_iterations=10, w=w))(jnp.array([0.4, 0.62, 0.9]))
-    out = eqx.filter_vmap(lambda p: p.run(KEY, shifted_sphere, LO3, HI3))(psos)
+    psos = eqx.filter_vmap(lambda w: PSO(n_particles=20, max_steps=10, w=w))(jnp.array([0.4, 0.62, 0.9]))
+    out = eqx.filter_vmap(lambda p: minimise(p, shifted_sphere, (LO3, HI3), KEY))(psos)
     assert out.best_loss.shape == (3,)
     assert len(np.unique(np.asarray(out.best_loss))) == 3
 
@@ -162,17 +163,17 @@ def test_nonfinite_losses_count_as_inf(method):
         base = jnp.sum((x - 0.5) ** 2)
         return jnp.where(x[0] < 0.0, jnp.nan, jnp.where(x[1] < -0.5, jnp.inf, base))
 
-    settings = {"pso": {"n_iterations": 30}, "gapso": {"ga_generations": 1, "pso": {"n_iterations": 20}}, "ga": {},
-                "ga_real": {}, "cmaes": {"generations": 60}, "de": {"generations": 60}}[method]
+    settings = {"pso": {"max_steps": 30}, "gapso": {"ga_steps": 1, "pso": {"max_steps": 20}}, "ga": {},
+                "ga_real": {}, "cmaes": {"max_steps": 60}, "de": {"max_steps": 60}}[method]
     r = optimise(method, loss, -jnp.ones(2), jnp.ones(2), key=KEY, n_seeds=2, **settings)
     assert np.all(np.isfinite(r.loss)) and np.all(r.x[:, 0] >= 0.0)
     assert np.all(r.loss < 0.05)
 
 
 def test_all_failed_evaluations_give_inf_not_nan():
-    r = optimise("pso", lambda x: jnp.nan * jnp.sum(x), LO3, HI3, key=KEY, n_particles=10, n_iterations=3)
+    r = optimise("pso", lambda x: jnp.nan * jnp.sum(x), LO3, HI3, key=KEY, n_particles=10, max_steps=3)
     assert np.all(np.isposinf(r.loss)) and not np.any(np.isnan(r.history))
-    r = optimise("ga", lambda x: jnp.nan * jnp.sum(x), LO3, HI3, key=KEY, generations=3)
+    r = optimise("ga", lambda x: jnp.nan * jnp.sum(x), LO3, HI3, key=KEY, max_steps=3)
     assert np.all(np.isposinf(r.loss))
 
 
@@ -221,7 +222,7 @@ def test_refinement_recovers_least_squares_solution(method):
 def test_refine_after_global_optimiser():
     res, truth = _exp_fit_problem()
     lo, hi = jnp.array([0.0, 0.0, -1.0]), jnp.array([5.0, 5.0, 1.0])
-    r = optimise("pso", None, lo, hi, key=KEY, n_seeds=3, residual_fn=res, refine=True, n_iterations=20)
+    r = optimise("pso", None, lo, hi, key=KEY, n_seeds=3, residual_fn=res, refine=True, max_steps=20)
     assert r.refine_result is not None and np.all(r.refine_result == 0)
     np.testing.assert_allclose(r.x, np.tile(np.asarray(truth), (3, 1)), atol=1e-6)
     assert np.all(r.loss <= r.loss_global) and np.all(r.n_evals > r.evals_history[:, -1])
@@ -240,9 +241,9 @@ def test_gapso_is_a_composition():
     assert isinstance(g.ga, GA) and isinstance(g.pso, PSO)
     assert not issubclass(GAPSO, (GA, PSO))
     # the paper's settings are the defaults
-    assert (g.ga.pop_size, g.ga.bits, g.ga.generations) == (20, 10, 20)
+    assert (g.ga.pop_size, g.ga.bits, g.ga.max_steps) == (20, 10, 20)
     assert float(g.ga.pc) == 0.9 and float(g.ga.pm) == 0.005
-    assert (g.pso.n_particles, g.pso.n_iterations) == (100, 100)
+    assert (g.pso.n_particles, g.pso.max_steps, g.max_steps) == (100, 100, 100)
     assert (float(g.pso.w), float(g.pso.c1), float(g.pso.c2)) == (0.62, 2.0, 2.0)
     with pytest.raises(ValueError, match="GA population smaller"):
         GAPSO(ga=GA(pop_size=50), pso=PSO(n_particles=20))
@@ -257,6 +258,12 @@ def test_bad_input_raises_helpful_errors():
         optimise("pso", shifted_sphere, HI3, LO3, key=KEY)
     with pytest.raises(ValueError, match="accepts settings"):
         optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_particle=3)
+    with pytest.raises(ValueError, match=r"renamed: n_iterations -> max_steps"):
+        optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_iterations=3)
+    with pytest.raises(ValueError, match=r"renamed: generations -> max_steps"):
+        optimise("gapso", shifted_sphere, LO3, HI3, key=KEY, ga={"generations": 3})
+    with pytest.raises(ValueError, match="on the optimiser object"):
+        optimise(PSO(), shifted_sphere, LO3, HI3, key=KEY, max_steps=3)
     with pytest.raises(ValueError, match="finite"):
         optimise("pso", shifted_sphere, LO3, jnp.full(3, jnp.inf), key=KEY)
 

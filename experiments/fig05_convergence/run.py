@@ -35,7 +35,7 @@ _lj.configure()  # this script opts in to float64 and the XLA options
 METHODS = {
     "PSO (paper)": ("pso", {}),
     "GA-PSO (paper, 20 GA gens/iter)": ("gapso", {}),
-    "GA-PSO (1 GA gen/iter)": ("gapso", {"ga_generations": 1}),
+    "GA-PSO (1 GA gen/iter)": ("gapso", {"ga_steps": 1}),
 }
 
 

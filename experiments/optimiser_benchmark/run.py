@@ -35,14 +35,14 @@ _lj.configure()  # this script opts in to float64 and the XLA options
 # label -> (method, settings, refine)
 METHODS = {
     "GA (paper: 20 x 20, binary)": ("ga", {}, False),
-    "GA real-coded (100 x 100)": ("ga_real", {"pop_size": 100, "generations": 100, "n_elite": 2}, False),
+    "GA real-coded (100 x 100)": ("ga_real", {"pop_size": 100, "max_steps": 100, "n_elite": 2}, False),
     "PSO (paper: 100 x 100)": ("pso", {}, False),
     "GA-PSO (paper, 20 GA gens/iter)": ("gapso", {}, False),
-    "GA-PSO (1 GA gen/iter)": ("gapso", {"ga_generations": 1}, False),
+    "GA-PSO (1 GA gen/iter)": ("gapso", {"ga_steps": 1}, False),
     "GA-PSO (paper) + LM": ("gapso", {}, True),
     "PSO (paper) + LM": ("pso", {}, True),
-    "PSO (20 x 30) + LM": ("pso", {"n_particles": 20, "n_iterations": 30}, True),
-    "CMA-ES (evosax, 8 x 300)": ("cmaes", {"generations": 300}, False),
+    "PSO (20 x 30) + LM": ("pso", {"n_particles": 20, "max_steps": 30}, True),
+    "CMA-ES (evosax, 8 x 300)": ("cmaes", {"max_steps": 300}, False),
     "DE rand/1/bin (evosax, 40 x 250)": ("de", {}, False),
     "LM (optimistix, random start)": ("lm", {"max_steps": 200}, False),
     "scipy least_squares (random start)": ("scipy_lsq", {}, False),

@@ -2,7 +2,7 @@
 whole/piecewise schemes and uncertainty."""
 
 # --- optimisers (owned by the optimiser module authors) ---
-from ._baselines import CMAES as CMAES, DE as DE, scipy_least_squares as scipy_least_squares
+from ._baselines import CMAES as CMAES, DE as DE, EvosaxState as EvosaxState, scipy_least_squares as scipy_least_squares
 from ._fitness import (
     RunResult as RunResult,
     evaluate as evaluate,
@@ -11,10 +11,10 @@ from ._fitness import (
     loss_from_residual as loss_from_residual,
     paper_fitness as paper_fitness,
 )
-from ._optimiser import AbstractOptimiser as AbstractOptimiser
+from ._optimiser import AbstractOptimiser as AbstractOptimiser, minimise as minimise
 from ._ga import GA as GA, GAState as GAState, RealGA as RealGA, decode as decode, encode as encode
 from ._gapso import GAPSO as GAPSO, GAPSOState as GAPSOState
-from ._pso import PSO as PSO, PSOState as PSOState
+from ._pso import PSO as PSO, PSOState as PSOState, hash_uniform as hash_uniform
 from ._refine import BoxTransform as BoxTransform, Refine as Refine, RefineResult as RefineResult, result_name as result_name
 from ._run import METHODS as METHODS, OptimResult as OptimResult, make_optimiser as make_optimiser, optimise as optimise
 # --- end optimisers ---

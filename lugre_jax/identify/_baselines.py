@@ -1,6 +1,6 @@
 """Baselines for the static identification of Li et al., Electronics 2020, 9, 284, section 4.2: CMA-ES
 (Hansen 2016, arXiv:1604.00772) and differential evolution (Storn & Price 1997), both from evosax
-0.3.2, wrapped in this package's ``init/step/run`` protocol; plus ``scipy.optimize.least_squares``.
+0.3.2, wrapped in this package's ``init``/``step`` protocol (driven by ``minimise``); plus ``scipy.optimize.least_squares``.
 
 Bounds:
 
@@ -22,7 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._types import Array, Float, Int, PRNGKeyArray, Scalar
-from ._fitness import LossFn, ResidualFn, RunResult, best_of, evaluate, scan_run
+from ._fitness import LossFn, ResidualFn, best_of, evaluate
 from ._optimiser import AbstractOptimiser
 
 
@@ -46,26 +46,29 @@ class EvosaxState(eqx.Module):
 
 
 class CMAES(AbstractOptimiser):
-    """CMA-ES from evosax in the unit cube of the box. ``pop_size=None`` is ``4 + 3 ln(dim)``."""
+    """CMA-ES from evosax in the unit cube of the box. ``pop_size=None`` is ``4 + 3 ln(dim)``;
+    ``max_steps`` generations; ``sigma0`` (initial step, fraction of the range) is an array leaf."""
 
     pop_size: int | None = eqx.field(static=True, default=None)
-    generations: int = eqx.field(static=True, default=200)
-    sigma0: float = eqx.field(static=True, default=0.3)
+    max_steps: int = eqx.field(static=True, default=200)
+    sigma0: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.3)
 
     def _algo(self, dim: int):
         n = self.pop_size if self.pop_size is not None else 4 + int(3 * np.log(dim))
         return _evosax().CMA_ES(population_size=n, solution=jnp.zeros(dim))
 
-    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> EvosaxState:
+    def init(self, fn: LossFn, bounds, key: PRNGKeyArray) -> EvosaxState:
         """Mean uniform in the box; no evaluation."""
+        lower, upper = bounds
         algo = self._algo(lower.shape[0])
         km, ki, key = jax.random.split(key, 3)
         params = algo.default_params.replace(std_init=jnp.asarray(self.sigma0))
         inner = algo.init(ki, jax.random.uniform(km, lower.shape, dtype=lower.dtype), params)
         return EvosaxState(inner, (lower + upper) / 2, jnp.asarray(jnp.inf), jnp.asarray(0), key)
 
-    def step(self, state: EvosaxState, loss_fn: LossFn, lower, upper) -> EvosaxState:
+    def step(self, fn: LossFn, state: EvosaxState, bounds) -> EvosaxState:
         """One ask/evaluate/tell generation (``pop_size`` evaluations)."""
+        loss_fn, (lower, upper) = fn, bounds
         algo = self._algo(lower.shape[0])
         params = algo.default_params.replace(std_init=jnp.asarray(self.sigma0))
         key, ka, kt = jax.random.split(state.key, 3)
@@ -79,19 +82,17 @@ class CMAES(AbstractOptimiser):
         best_x, best_loss = best_of(x, losses, state.best_x, state.best_loss)
         return EvosaxState(inner, best_x, best_loss, state.n_evals + y.shape[0], key)
 
-    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
-        """``generations`` generations under ``lax.scan`` (history row 0 is before any evaluation)."""
-        return scan_run(self, key, loss_fn, lower, upper, self.generations)
 
 
 class DE(AbstractOptimiser):
-    """Differential evolution from evosax: ``base="rand"`` (DE/rand/1/bin) or ``"best"`` (DE/best/1/bin)."""
+    """Differential evolution from evosax: ``base="rand"`` (DE/rand/1/bin) or ``"best"`` (DE/best/1/bin);
+    ``max_steps`` generations; ``F`` and ``CR`` are array leaves."""
 
     pop_size: int = eqx.field(static=True, default=40)
-    generations: int = eqx.field(static=True, default=250)
+    max_steps: int = eqx.field(static=True, default=250)
     base: str = eqx.field(static=True, default="rand")
-    F: float = eqx.field(static=True, default=0.8)
-    CR: float = eqx.field(static=True, default=0.9)
+    F: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.8)
+    CR: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.9)
 
     def __check_init__(self):
         if self.base not in ("rand", "best"):
@@ -110,8 +111,9 @@ class DE(AbstractOptimiser):
         )
         return algo, params
 
-    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> EvosaxState:
+    def init(self, fn: LossFn, bounds, key: PRNGKeyArray) -> EvosaxState:
         """Uniform population in the box (``pop_size`` evaluations)."""
+        loss_fn, (lower, upper) = fn, bounds
         algo, params = self._algo(lower.shape[0])
         kx, ki, key = jax.random.split(key, 3)
         x = lower + (upper - lower) * jax.random.uniform(kx, (self.pop_size, lower.shape[0]), dtype=lower.dtype)
@@ -120,8 +122,9 @@ class DE(AbstractOptimiser):
         i = jnp.argmin(losses)
         return EvosaxState(inner, x[i], losses[i], jnp.asarray(self.pop_size), key)
 
-    def step(self, state: EvosaxState, loss_fn: LossFn, lower, upper) -> EvosaxState:
+    def step(self, fn: LossFn, state: EvosaxState, bounds) -> EvosaxState:
         """One generation (``pop_size`` evaluations)."""
+        loss_fn, (lower, upper) = fn, bounds
         algo, params = self._algo(lower.shape[0])
         key, ka, kt = jax.random.split(state.key, 3)
         x, inner = algo.ask(ka, state.inner, params)
@@ -131,9 +134,6 @@ class DE(AbstractOptimiser):
         best_x, best_loss = best_of(x, losses, state.best_x, state.best_loss)
         return EvosaxState(inner, best_x, best_loss, state.n_evals + self.pop_size, key)
 
-    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
-        """Init plus ``generations`` generations under ``lax.scan``."""
-        return scan_run(self, key, loss_fn, lower, upper, self.generations)
 
 
 def scipy_least_squares(

@@ -103,20 +103,3 @@ class RunResult(eqx.Module):
     history_loss: Float[Array, " iters"]
     history_evals: Int[Array, " iters"]
 
-
-def scan_run(optimiser, key, loss_fn: LossFn, lower, upper, n_steps: int) -> RunResult:
-    """Drive ``optimiser.init`` then ``n_steps`` of ``optimiser.step`` with ``lax.scan``.
-
-    The state of every optimiser here carries ``best_x``, ``best_loss`` and ``n_evals``.
-    """
-    lower, upper = check_bounds(lower, upper)
-    state0 = optimiser.init(key, loss_fn, lower, upper)
-
-    def body(state, _):
-        state = optimiser.step(state, loss_fn, lower, upper)
-        return state, (state.best_loss, state.n_evals)
-
-    state, (hist_loss, hist_evals) = jax.lax.scan(body, state0, None, length=n_steps)
-    hist_loss = jnp.concatenate([state0.best_loss[None], hist_loss])
-    hist_evals = jnp.concatenate([jnp.asarray(state0.n_evals)[None], hist_evals])
-    return RunResult(state, state.best_x, state.best_loss, hist_loss, hist_evals)

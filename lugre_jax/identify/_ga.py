@@ -2,7 +2,8 @@
 
 :class:`GA` is the paper's GA: binary genes of ``bits = 10`` per parameter (``lower + k/(2^bits-1)
 * (upper - lower)``, ``k`` an unsigned integer, most significant bit first), population 20,
-crossover probability ``Pc = 0.9``, mutation probability ``Pm = 0.005`` per bit, 20 generations.
+crossover probability ``Pc = 0.9``, mutation probability ``Pm = 0.005`` per bit, 20 generations
+(``max_steps``).
 The paper does not state the selection or the crossover; ours:
 
 * selection: roulette wheel on the paper's fitness ``f = C_m - J`` (section 4.2.3, step 2), with
@@ -18,8 +19,8 @@ The paper does not state the selection or the crossover; ours:
 (``eta_m``) per gene with probability ``pm``, children clipped to the box, same elitism.
 
 Operators are written for one individual (or one pair) and vmapped over the population.
-Evaluations per generation: ``pop_size - n_elite``; ``run`` counts the initial population as
-generation 0.
+Evaluations per generation: ``pop_size - n_elite``; :func:`~._optimiser.minimise` counts the initial
+population as generation 0 and then runs ``max_steps`` generations.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ import jax
 import jax.numpy as jnp
 
 from .._types import Array, Bool, Float, Int, Population, PRNGKeyArray, Scalar
-from ._fitness import LossFn, RunResult, evaluate, paper_fitness, scan_run
+from ._fitness import LossFn, evaluate, paper_fitness
 from ._optimiser import AbstractOptimiser
 
 # ---------------------------------------------------------------- shared selection
@@ -130,12 +131,13 @@ def _state_from(genes, x, losses, key, n_evals):
 class GA(AbstractOptimiser):
     """The paper's binary GA (section 4.2.3): population 20, 10-bit genes, Pc 0.9, Pm 0.005, 20 generations.
 
-    ``pc`` and ``pm`` are array leaves (vmappable); the rest is static.
+    ``pc`` and ``pm`` are array leaves (vmappable); the rest is static. ``max_steps`` is the number of
+    generations.
     """
 
     pop_size: int = eqx.field(static=True, default=20)
     bits: int = eqx.field(static=True, default=10)
-    generations: int = eqx.field(static=True, default=20)
+    max_steps: int = eqx.field(static=True, default=20)
     n_elite: int = eqx.field(static=True, default=1)
     selection: str = eqx.field(static=True, default="roulette")
     tournament_size: int = eqx.field(static=True, default=2)
@@ -158,29 +160,33 @@ class GA(AbstractOptimiser):
         """Parameters of one individual (vmap for a population)."""
         return decode(genes, lower, upper, self.bits)
 
-    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> GAState:
+    def init(self, fn: LossFn, bounds, key: PRNGKeyArray) -> GAState:
         """Random bits (each 0/1 with probability 1/2), decoded and evaluated (``pop_size`` evaluations)."""
+        loss_fn, (lower, upper) = fn, bounds
         kg, key = jax.random.split(key)
         genes = jax.random.bernoulli(kg, 0.5, (self.pop_size, lower.shape[0] * self.bits))
         x = jax.vmap(self.decode, (0, None, None))(genes, lower, upper)
         return _state_from(genes, x, evaluate(loss_fn, x), key, self.pop_size)
 
-    def init_from(self, key: PRNGKeyArray, x: Population, loss_fn: LossFn, lower, upper) -> GAState:
+    def init_from(self, fn: LossFn, x: Population, bounds, key: PRNGKeyArray) -> GAState:
         """Encode a given population (paper 4.2.1 step 3: "GA encodes the particle swarm").
 
         The decoded (quantised) points are re-evaluated, so the stored losses are those of the
         points the genes represent (``len(x)`` evaluations).
         """
+        loss_fn, (lower, upper) = fn, bounds
         genes = jax.vmap(self.encode, (0, None, None))(x, lower, upper)
         xq = jax.vmap(self.decode, (0, None, None))(genes, lower, upper)
         return _state_from(genes, xq, evaluate(loss_fn, xq), key, x.shape[0])
 
-    def population(self, state: GAState, lower, upper) -> Population:
+    def population(self, state: GAState, bounds) -> Population:
         """Decoded population of ``state``."""
+        lower, upper = bounds
         return jax.vmap(self.decode, (0, None, None))(state.genes, lower, upper)
 
-    def step(self, state: GAState, loss_fn: LossFn, lower, upper) -> GAState:
+    def step(self, fn: LossFn, state: GAState, bounds) -> GAState:
         """Selection, crossover, mutation, elitism; evaluates ``pop_size - n_elite`` children."""
+        loss_fn, (lower, upper) = fn, bounds
         n = state.genes.shape[0]
         key, ks, kc, km = jax.random.split(state.key, 4)
         parents = state.genes[_select(ks, state.losses, n, self.selection, self.tournament_size)]
@@ -193,9 +199,6 @@ class GA(AbstractOptimiser):
         losses = jnp.concatenate([elite_losses, evaluate(loss_fn, x[self.n_elite:])])
         return _advance(state, children, x, losses, n - self.n_elite, key)
 
-    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
-        """Init plus ``generations`` steps under ``lax.scan``; history has ``generations + 1`` rows."""
-        return scan_run(self, key, loss_fn, lower, upper, self.generations)
 
 
 # ---------------------------------------------------------------- real coding
@@ -225,12 +228,12 @@ def _polynomial_mutation(key, x, pm, eta, lower, upper):
 class RealGA(AbstractOptimiser):
     """Real-coded GA: tournament selection, SBX crossover, polynomial mutation, elitism.
 
-    Defaults are sized like the paper's GA (population 20, 20 generations) so the two compare at the
-    same budget; ``pm`` is per gene.
+    Defaults are sized like the paper's GA (population 20, ``max_steps`` = 20 generations) so the two
+    compare at the same budget; ``pm`` is per gene.
     """
 
     pop_size: int = eqx.field(static=True, default=20)
-    generations: int = eqx.field(static=True, default=20)
+    max_steps: int = eqx.field(static=True, default=20)
     n_elite: int = eqx.field(static=True, default=1)
     tournament_size: int = eqx.field(static=True, default=2)
     pc: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.9)
@@ -242,14 +245,16 @@ class RealGA(AbstractOptimiser):
         if self.pop_size < 2 or not 0 <= self.n_elite < self.pop_size:
             raise ValueError(f"RealGA needs pop_size >= 2 and 0 <= n_elite < pop_size, got {self.pop_size}, {self.n_elite}")
 
-    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> GAState:
+    def init(self, fn: LossFn, bounds, key: PRNGKeyArray) -> GAState:
         """Uniform population in the box (``pop_size`` evaluations)."""
+        loss_fn, (lower, upper) = fn, bounds
         kx, key = jax.random.split(key)
         x = lower + (upper - lower) * jax.random.uniform(kx, (self.pop_size, lower.shape[0]), dtype=lower.dtype)
         return _state_from(x, x, evaluate(loss_fn, x), key, self.pop_size)
 
-    def step(self, state: GAState, loss_fn: LossFn, lower, upper) -> GAState:
+    def step(self, fn: LossFn, state: GAState, bounds) -> GAState:
         """Tournament, SBX, polynomial mutation, elitism; evaluates ``pop_size - n_elite`` children."""
+        loss_fn, (lower, upper) = fn, bounds
         n = state.genes.shape[0]
         key, ks, kc, km = jax.random.split(state.key, 4)
         parents = state.genes[_tournament(ks, state.losses, n, self.tournament_size)]
@@ -263,6 +268,3 @@ class RealGA(AbstractOptimiser):
         losses = jnp.concatenate([elite_losses, evaluate(loss_fn, children[self.n_elite:])])
         return _advance(state, children, children, losses, n - self.n_elite, key)
 
-    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
-        """Init plus ``generations`` steps under ``lax.scan``; history has ``generations + 1`` rows."""
-        return scan_run(self, key, loss_fn, lower, upper, self.generations)

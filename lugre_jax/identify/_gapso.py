@@ -11,19 +11,19 @@ each step is here (the paper is terse; the reading is ours where marked):
    *Ours*: which particles (the best ones) -- the GA population is smaller than the swarm.
 4. "Selection, crossover, mutation": ``ga.step``.
 5. "Decode, calculate fitness values, adjust": part of ``ga.step`` (decode + evaluate).
-6. "If the GA's iteration count is met, output; else return to 3": ``ga_generations`` GA steps
-   (default: the GA's own ``generations``, 20, the literal reading; a cheaper variant uses 1).
+6. "If the GA's iteration count is met, output; else return to 3": ``ga_steps`` GA steps
+   (default: the GA's own ``max_steps``, 20, the literal reading; a cheaper variant uses 1).
 7. "PSO compares with the individual extrema by the fitness of (5)": the GA's final population is
    handed back to the particles it came from, and ``pso.absorb`` updates their personal bests.
    *Ours*: an offspring replaces its particle's position (velocity kept) only where it has a lower
    loss than the particle's current position; an unconditional write-back snaps the best particles
    onto the 10-bit grid every iteration and caps the accuracy at the grid resolution.
 8. "... and with the global extremum": ``pso.absorb`` also updates the global best.
-9. "Termination?": the fixed iteration count of ``pso`` (``lax.scan``).
+9. "Termination?": the fixed iteration count ``pso.max_steps`` (``minimise``'s ``lax.scan``).
 10. "Update velocity and position": ``pso.move`` (evaluates the whole swarm, updates bests).
 11. "Return to (3)": next iteration.
 
-Evaluations per iteration: ``pop_size + ga_generations * (pop_size - n_elite)`` for the GA part plus ``pso.n_particles`` for the move:
+Evaluations per iteration: ``pop_size + ga_steps * (pop_size - n_elite)`` for the GA part plus ``pso.n_particles`` for the move:
 with the paper's settings 20 + 20*19 + 100 = 500 per iteration, five times the PSO's 100. Compare
 the two per evaluation, not per iteration.
 """
@@ -35,7 +35,7 @@ import jax
 import jax.numpy as jnp
 
 from .._types import Array, Int, PRNGKeyArray, Scalar, Float
-from ._fitness import LossFn, RunResult, scan_run
+from ._fitness import LossFn
 from ._optimiser import AbstractOptimiser
 from ._ga import GA
 from ._pso import PSO, PSOState
@@ -57,13 +57,13 @@ def _mirror(swarm: PSOState) -> GAPSOState:
 class GAPSO(AbstractOptimiser):
     """GA-PSO by composition: ``ga`` (paper's binary GA) and ``pso`` (paper's PSO).
 
-    ``ga_generations`` GA steps per PSO iteration; ``None`` means ``ga.generations`` (the literal
-    reading of step 6). ``n_iterations`` is the PSO's.
+    ``ga_steps`` GA steps per PSO iteration; ``None`` means ``ga.max_steps`` (the literal reading of
+    step 6). ``max_steps`` (the number of GA-PSO iterations) is the swarm's, ``pso.max_steps``.
     """
 
     ga: GA = eqx.field(default_factory=GA)
     pso: PSO = eqx.field(default_factory=PSO)
-    ga_generations: int | None = eqx.field(static=True, default=None)
+    ga_steps: int | None = eqx.field(static=True, default=None)
 
     def __check_init__(self):
         if self.ga.pop_size > self.pso.n_particles:
@@ -74,31 +74,31 @@ class GAPSO(AbstractOptimiser):
 
     @property
     def n_ga_steps(self) -> int:
-        return self.ga.generations if self.ga_generations is None else self.ga_generations
+        return self.ga.max_steps if self.ga_steps is None else self.ga_steps
 
     @property
-    def n_iterations(self) -> int:
-        return self.pso.n_iterations
+    def max_steps(self) -> int:
+        return self.pso.max_steps
 
-    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> GAPSOState:
+    def init(self, fn: LossFn, bounds, key: PRNGKeyArray) -> GAPSOState:
         """Step 1: the swarm (``pso.n_particles`` evaluations)."""
-        return _mirror(self.pso.init(key, loss_fn, lower, upper))
+        return _mirror(self.pso.init(fn, bounds, key))
 
-    def step(self, state: GAPSOState, loss_fn: LossFn, lower, upper) -> GAPSOState:
+    def step(self, fn: LossFn, state: GAPSOState, bounds) -> GAPSOState:
         """Steps 3-8 and 10 of the flow above (one GA-PSO iteration)."""
         swarm = state.swarm
         key, kga = jax.random.split(swarm.key)
         # Step 3: the best particles become the GA's population.
         chosen = jnp.argsort(swarm.fx)[: self.ga.pop_size]
-        ga_state = self.ga.init_from(kga, swarm.x[chosen], loss_fn, lower, upper)
+        ga_state = self.ga.init_from(fn, swarm.x[chosen], bounds, kga)
 
         # Steps 4-6: the GA's own loop.
         def ga_body(s, _):
-            return self.ga.step(s, loss_fn, lower, upper), None
+            return self.ga.step(fn, s, bounds), None
 
         ga_state, _ = jax.lax.scan(ga_body, ga_state, None, length=self.n_ga_steps)
         # Steps 7-8: offspring back into the swarm, personal and global bests updated.
-        x_ga = self.ga.population(ga_state, lower, upper)
+        x_ga = self.ga.population(ga_state, bounds)
         swarm = eqx.tree_at(lambda s: (s.key, s.n_evals), swarm, (key, swarm.n_evals + ga_state.n_evals))
         # Ours: an offspring replaces its particle's position only if it is better there. Writing
         # back unconditionally would snap the best particles to the 10-bit grid every iteration
@@ -116,8 +116,4 @@ class GAPSO(AbstractOptimiser):
             (jnp.where(better, ga_state.best_x, swarm.best_x), jnp.where(better, ga_state.best_loss, swarm.best_loss)),
         )
         # Step 10: velocity and position update.
-        return _mirror(self.pso.move(swarm, loss_fn, lower, upper))
-
-    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
-        """Init plus ``pso.n_iterations`` GA-PSO iterations under ``lax.scan``."""
-        return scan_run(self, key, loss_fn, lower, upper, self.n_iterations)
+        return _mirror(self.pso.move(fn, swarm, bounds))

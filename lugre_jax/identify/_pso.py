@@ -16,8 +16,8 @@ Bound handling (the paper does not say; this is ours):
   particle stops at the wall instead of pressing on it every iteration).
 
 The swarm is initialised uniformly in the box with velocities uniform in ``[-vmax, vmax]``.
-``run`` counts the initial swarm as iteration 0, then does ``n_iterations`` updates, so the
-evaluation count is ``n_particles * (n_iterations + 1)``.
+:func:`~._optimiser.minimise` counts the initial swarm as iteration 0, then does ``max_steps``
+updates, so the evaluation count is ``n_particles * (max_steps + 1)``.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import jax
 import jax.numpy as jnp
 
 from .._types import Array, Float, Int, Population, PRNGKeyArray, Scalar
-from ._fitness import LossFn, RunResult, best_of, evaluate, scan_run
+from ._fitness import LossFn, best_of, evaluate
 from ._optimiser import AbstractOptimiser
 
 
@@ -88,12 +88,12 @@ class PSO(AbstractOptimiser):
     """Global-best PSO with the paper's settings as defaults (section 4.2.3).
 
     ``w``, ``c1``, ``c2`` and ``vmax_frac`` are array leaves: vmap over a stacked ``PSO`` to sweep
-    them. ``n_particles`` and ``n_iterations`` are static. ``rng="hash"`` draws ``r1, r2`` with
+    them. ``n_particles`` and ``max_steps`` (the number of iterations) are static. ``rng="hash"`` draws ``r1, r2`` with
     :func:`hash_uniform` instead of ``jax.random.uniform`` (faster when the loss is cheap).
     """
 
     n_particles: int = eqx.field(static=True, default=100)
-    n_iterations: int = eqx.field(static=True, default=100)
+    max_steps: int = eqx.field(static=True, default=100)
     w: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=0.62)
     c1: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=2.0)
     c2: Float[Array, ""] = eqx.field(converter=jnp.asarray, default=2.0)
@@ -105,11 +105,12 @@ class PSO(AbstractOptimiser):
             raise ValueError(f"PSO rng must be 'threefry' (jax.random) or 'hash' (hash_uniform), got {self.rng!r}")
         if self.n_particles < 2:
             raise ValueError(f"PSO needs n_particles >= 2, got {self.n_particles}")
-        if self.n_iterations < 0:
-            raise ValueError(f"PSO needs n_iterations >= 0, got {self.n_iterations}")
+        if self.max_steps < 0:
+            raise ValueError(f"PSO needs max_steps >= 0, got {self.max_steps}")
 
-    def init(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> PSOState:
+    def init(self, fn: LossFn, bounds, key: PRNGKeyArray) -> PSOState:
         """Uniform swarm in the box, evaluated once (``n_particles`` evaluations)."""
+        loss_fn, (lower, upper) = fn, bounds
         kx, kv, key = jax.random.split(key, 3)
         dim = lower.shape[0]
         span = upper - lower
@@ -120,8 +121,9 @@ class PSO(AbstractOptimiser):
         i = jnp.argmin(fx)
         return PSOState(x, v, fx, x, fx, x[i], fx[i], jnp.asarray(self.n_particles), key)
 
-    def move(self, state: PSOState, loss_fn: LossFn, lower, upper) -> PSOState:
+    def move(self, fn: LossFn, state: PSOState, bounds) -> PSOState:
         """Velocity/position update of every particle, evaluation, then personal and global bests."""
+        loss_fn, (lower, upper) = fn, bounds
         key, sub = jax.random.split(state.key)
         # float32 draws (cast up) halve the PRNG work, which dominates a cheap loss; 24 random bits
         # are plenty for an acceleration coefficient.
@@ -156,10 +158,6 @@ class PSO(AbstractOptimiser):
             (state.x.at[index].set(x), state.fx.at[index].set(fx), pbest, pbest_f, best_x, best_loss),
         )
 
-    def step(self, state: PSOState, loss_fn: LossFn, lower, upper) -> PSOState:
+    def step(self, fn: LossFn, state: PSOState, bounds) -> PSOState:
         """One PSO iteration (``n_particles`` evaluations)."""
-        return self.move(state, loss_fn, lower, upper)
-
-    def run(self, key: PRNGKeyArray, loss_fn: LossFn, lower, upper) -> RunResult:
-        """Init plus ``n_iterations`` steps under ``lax.scan``; history has ``n_iterations + 1`` rows."""
-        return scan_run(self, key, loss_fn, lower, upper, self.n_iterations)
+        return self.move(fn, state, bounds)

@@ -21,12 +21,23 @@ from ._baselines import CMAES, DE, scipy_least_squares
 from ._fitness import LossFn, ResidualFn, check_bounds, finite_or_inf, loss_from_residual
 from ._ga import GA, RealGA
 from ._gapso import GAPSO
+from ._optimiser import AbstractOptimiser, minimise
 from ._pso import PSO
-from ._refine import Refine
+from ._refine import Refine, result_name
 
 METHODS = ("ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm", "bfgs", "scipy_lsq")
 _POPULATION = {"ga": GA, "ga_real": RealGA, "pso": PSO, "cmaes": CMAES, "de": DE}
 _LOCAL = {"lm": "lm", "bfgs": "bfgs"}
+
+
+def _json_array(a) -> Any:
+    """Nested lists of Python numbers; non-finite floats become ``None`` (JSON has no inf/NaN)."""
+    a = np.asarray(a)
+    if a.dtype.kind != "f":
+        return a.tolist()
+    out = a.astype(object)
+    out[~np.isfinite(a)] = None
+    return out.tolist()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -70,28 +81,55 @@ class OptimResult:
         i = int(np.argmin(self.loss))
         return self.x[i], float(self.loss[i])
 
+    @property
+    def steps(self) -> int:
+        """Optimiser steps (iterations/generations) per seed; 1 for the local methods' single call."""
+        return int(self.history.shape[1] - 1)
 
-def make_optimiser(method: str, **settings: Any):
+    def to_json(self) -> dict[str, Any]:
+        """JSON-ready dict (lists and floats; non-finite losses as ``null``): every field above plus
+        ``steps``; ``refine_result`` as names (``successful``, ...) where optimistix ran."""
+        codes = None
+        if self.refine_result is not None:
+            codes = (self.refine_result.tolist() if self.method == "scipy_lsq"
+                     else [result_name(int(c)) for c in np.ravel(self.refine_result)])
+        return dict(
+            method=self.method, steps=self.steps, x=_json_array(self.x), loss=_json_array(self.loss),
+            x_global=_json_array(self.x_global), loss_global=_json_array(self.loss_global),
+            history=_json_array(self.history), evals_history=_json_array(self.evals_history),
+            n_evals=_json_array(self.n_evals),
+            wall_time_s=self.wall_time, compile_time_s=self.compile_time, refine_result=codes,
+            settings={k: v for k, v in self.settings.items() if isinstance(v, (str, int, float, bool, dict, type(None)))},
+        )
+
+
+# Step counts had three names before one (max_steps); name the new one instead of "unknown setting".
+_RENAMED = {"generations": "max_steps", "n_iterations": "max_steps", "ga_generations": "ga_steps"}
+
+
+def _build(cls, what: str, settings: dict[str, Any]):
+    fields = {f.name for f in dataclasses.fields(cls)}
+    unknown = set(settings) - fields
+    if unknown:
+        renamed = [f"{k} -> {_RENAMED[k]}" for k in sorted(unknown) if k in _RENAMED and _RENAMED[k] in fields]
+        hint = f" (renamed: {', '.join(renamed)})" if renamed else ""
+        raise ValueError(f"{what} ({cls.__name__}) accepts settings {sorted(fields)}; got unknown {sorted(unknown)}{hint}")
+    return cls(**settings)
+
+
+def make_optimiser(method: str, **settings: Any) -> AbstractOptimiser:
     """The optimiser object for ``method`` built from ``settings`` (constructor keywords).
 
-    For ``"gapso"``: ``ga=dict(...)``, ``pso=dict(...)`` and ``ga_generations=int``.
+    For ``"gapso"``: ``ga=dict(...)``, ``pso=dict(...)`` and ``ga_steps=int``. Every optimiser's
+    iteration/generation count is ``max_steps``.
     """
     if method == "gapso":
-        unknown = set(settings) - {"ga", "pso", "ga_generations"}
-        if unknown:
-            raise ValueError(f"gapso settings are ga=dict, pso=dict, ga_generations=int; got unknown {sorted(unknown)}")
-        return GAPSO(
-            ga=GA(**settings.get("ga", {})),
-            pso=PSO(**settings.get("pso", {})),
-            ga_generations=settings.get("ga_generations"),
-        )
+        settings = dict(settings)
+        return _build(GAPSO, method, dict(
+            settings, ga=_build(GA, "gapso's ga", settings.pop("ga", {})),
+            pso=_build(PSO, "gapso's pso", settings.pop("pso", {}))))
     if method in _POPULATION:
-        cls = _POPULATION[method]
-        fields = {f.name for f in dataclasses.fields(cls)}
-        unknown = set(settings) - fields
-        if unknown:
-            raise ValueError(f"{method} ({cls.__name__}) accepts settings {sorted(fields)}; got unknown {sorted(unknown)}")
-        return cls(**settings)
+        return _build(_POPULATION[method], method, settings)
     raise ValueError(f"unknown method {method!r}; choose one of {METHODS}")
 
 
@@ -111,7 +149,7 @@ def _starts(key, n_seeds, lower, upper, x0):
 
 
 def optimise(
-    method: str,
+    method: str | AbstractOptimiser,
     loss_fn: LossFn | None,
     lower,
     upper,
@@ -128,7 +166,8 @@ def optimise(
 
     Arguments:
 
-    * ``method``: ``"ga"`` (paper's binary GA), ``"ga_real"`` (SBX + polynomial mutation), ``"pso"``
+    * ``method``: an optimiser object (e.g. ``PSO(max_steps=50)``, any :class:`AbstractOptimiser`),
+      or a name: ``"ga"`` (paper's binary GA), ``"ga_real"`` (SBX + polynomial mutation), ``"pso"``
       (paper's PSO), ``"gapso"`` (paper's GA-PSO), ``"cmaes"``, ``"de"`` (evosax), ``"lm"``
       (optimistix Levenberg-Marquardt, needs ``residual_fn``), ``"bfgs"`` (optimistix BFGS),
       ``"scipy_lsq"`` (``scipy.optimize.least_squares``, trf, needs ``residual_fn``).
@@ -141,8 +180,8 @@ def optimise(
       refinement.
     * ``refine``: refine each seed's best point with ``refine_method`` (``"lm"`` or ``"bfgs"``,
       box-transformed; ``refine_settings`` go to :class:`Refine`: ``rtol``, ``atol``, ``max_steps``).
-    * ``settings``: constructor keywords of the optimiser (e.g. ``n_particles=100, n_iterations=100``
-      for PSO; ``ga={...}, pso={...}, ga_generations=1`` for GA-PSO). Local methods (``lm``,
+    * ``settings``: constructor keywords of the optimiser named by ``method`` (e.g.
+      ``n_particles=100, max_steps=100`` for PSO; ``ga={...}, pso={...}, ga_steps=1`` for GA-PSO). Local methods (``lm``,
       ``bfgs``, ``scipy_lsq``) take ``x0`` (``(dim,)`` or ``(n_seeds, dim)``; default: uniform random
       starts in the box, one per seed) and ``rtol``, ``atol``, ``max_steps`` (``max_nfev`` for scipy).
 
@@ -164,8 +203,16 @@ def optimise(
         raise ValueError("LM refinement needs residual_fn; pass it, or use refine_method='bfgs'")
     keys = jax.random.split(key, n_seeds)
     dim = lower.shape[0]
+    if isinstance(method, AbstractOptimiser):
+        if settings:
+            raise ValueError(f"settings {sorted(settings)} apply to a method name; set them on the optimiser object instead")
+        opt, method = method, type(method).__name__
+    elif method in _LOCAL or method == "scipy_lsq":
+        opt = None
+    else:
+        opt = make_optimiser(method, **settings)
 
-    if method in _LOCAL or method == "scipy_lsq":
+    if opt is None:
         x0 = _starts(key, n_seeds, lower, upper, settings.pop("x0", None))
         if method == "scipy_lsq":
             out = scipy_least_squares(residual_fn, x0, lower, upper, **settings)
@@ -192,17 +239,15 @@ def optimise(
         x, loss, n_evals = x_g, l_g, evals[:, -1]
         result_codes = codes
     else:
-        opt = make_optimiser(method, **settings)
-
         def many(ks):
-            return jax.vmap(lambda k: opt.run(k, loss_fn, lower, upper))(ks)
+            return jax.vmap(lambda k: minimise(opt, loss_fn, (lower, upper), k))(ks)
 
         r, comp, wall = _timed_jit(many, keys)
         x_g, l_g = np.asarray(r.best_x), np.asarray(r.best_loss)
         hist, evals = np.asarray(r.history_loss), np.asarray(r.history_evals)
         x, loss, n_evals, result_codes = x_g, l_g, evals[:, -1], None
 
-    if refine and method not in _LOCAL and method != "scipy_lsq":
+    if refine and opt is not None:
         solver = Refine(refine_method, **(refine_settings or {}))
 
         def polish(xs):
