@@ -1,0 +1,253 @@
+"""The sweep SPEC (JSON): which scenario, which parameters over which box, which plan, which outputs.
+
+Schema (``?`` = optional)::
+
+    {
+      "scenario":  {<a simulate scenario, see lugre_jax.io>} | "path/to/scenario.json" (relative to the SPEC),
+      "problem":   {"num_vars"?, "names": ["friction.Fs", "controller.ki", "reference.levels[0]", ...],
+                    "bounds": [[lo, hi], ...]},          (SALib's problem dict; names are dotted paths)
+      "sampler":   "sobol" | "lhs" | "grid",
+      "n":         sobol: base points, a power of two (runs: n*(D+2), or n*(2D+2) with second_order);
+                   lhs: points; grid: levels per name,
+      "seed":      integer (sampling and bootstrap),
+      "outputs":   ["dead_zone", "creep_amplitude", "band_fraction", "tracking_error", "stick_slip",
+                    or {"metric": <one of those>, "name"?, "window"?, "band"?, "threshold"?}],
+      "second_order"?: false (sobol),  "levels"?: [k per name] (grid),
+      "stepping"?: {"solver": "bosh3"|"tsit5"|..., "dt": s}   fast fixed step (default: the
+                   scenario's solver section, else Tsit5 at 2.5 ms),
+      "fallback"?: {"rtol"?, "atol"?, "max_steps"?} | null   stiff Kvaerno5 re-solve of failed lanes,
+      "chunk_size"?: points per chunk file (default 4096), "num_resamples"?: 100, "conf_level"?: 0.95
+    }
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import hashlib
+import json
+import math
+from pathlib import Path as FsPath
+from typing import Any
+
+import diffrax
+
+from .._simulation import Adaptive, FixedStep
+from ..io import scenario_from_dict
+from ._metrics import METRICS, AbstractMetric
+from ._paths import Path, parse_path
+from ._problem import check_problem
+from ._sample import AbstractSampler, Grid, LatinHypercube, Saltelli
+
+_TOP = {"scenario", "problem", "sampler", "n", "seed", "outputs", "second_order", "levels", "stepping",
+        "fallback", "chunk_size", "num_resamples", "conf_level"}
+
+
+_FIXED_SOLVERS = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
+                  "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
+# The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
+# window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
+STIFF_DEFAULT = dict(rtol=1e-6, atol=1e-9, max_steps=100_000)
+
+
+@dataclasses.dataclass(frozen=True)
+class SweepSpec:
+    """A checked SPEC. ``raw`` is its normalised JSON (the scenario inlined): what the DIR's hash
+    is taken of."""
+
+    raw: dict
+    system: Any
+    duration_s: float
+    sample_hz: float
+    names: tuple[str, ...]
+    bounds: Any
+    paths: tuple[Path, ...]
+    sampler: AbstractSampler
+    n: int
+    seed: int
+    outputs: tuple[AbstractMetric, ...]
+    fast: FixedStep
+    stiff: Adaptive | None
+    chunk_size: int
+    num_resamples: int
+    conf_level: float
+
+    @property
+    def problem(self) -> dict:
+        return {"num_vars": len(self.names), "names": list(self.names), "bounds": self.bounds.tolist()}
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return tuple(m.name for m in self.outputs)
+
+    def digest(self) -> str:
+        return hashlib.sha256(json.dumps(self.raw, sort_keys=True).encode()).hexdigest()
+
+
+def _int(d, key, where, default=None, lo=1):
+    v = d.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+        raise ValueError(f"{where}.{key}: expected an integer >= {lo}, got {v!r}")
+    return v
+
+
+def _pos(d, key, where, default):
+    v = d.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+        raise ValueError(f"{where}.{key}: expected a positive number, got {v!r}")
+    return float(v)
+
+
+def _outputs(spec_outputs, where) -> tuple[AbstractMetric, ...]:
+    if not isinstance(spec_outputs, list) or not spec_outputs:
+        raise ValueError(f"{where}: expected a non-empty list of metrics ({', '.join(METRICS)})")
+    out = []
+    for i, o in enumerate(spec_outputs):
+        w = f"{where}[{i}]"
+        o = {"metric": o} if isinstance(o, str) else o
+        if not isinstance(o, dict) or o.get("metric") not in METRICS:
+            got = o.get("metric") if isinstance(o, dict) else o
+            raise ValueError(f"{w}: expected one of {', '.join(METRICS)} (or an object with 'metric'), got {got!r}")
+        cls = METRICS[o["metric"]]
+        allowed = {"metric", "name", "window"} | {"band_fraction": {"band"}, "stick_slip": {"threshold"}}.get(o["metric"], set())
+        extra = sorted(set(o) - allowed)
+        if extra:
+            raise ValueError(f"{w}: unknown key '{extra[0]}' for {o['metric']} (expected: {', '.join(sorted(allowed))})")
+        kw = {"name": o.get("name", o["metric"])}
+        if not isinstance(kw["name"], str) or not kw["name"]:
+            raise ValueError(f"{w}.name: expected a non-empty string, got {kw['name']!r}")
+        if "window" in o:
+            kw["window"] = _pos(o, "window", w, None)
+            if kw["window"] > 1:
+                raise ValueError(f"{w}.window: expected a fraction of the record in (0, 1], got {kw['window']}")
+        for k in ("band", "threshold"):
+            if k in o:
+                kw[k] = _pos(o, k, w, None)
+        out.append(cls(**kw))
+    names = [m.name for m in out]
+    dup = [n for n in names if names.count(n) > 1]
+    if dup:
+        raise ValueError(f"{where}: output name '{dup[0]}' appears twice; give one a 'name'")
+    return tuple(out)
+
+
+def spec_from_dict(d: Any, where: str = "SPEC", base_dir: FsPath | None = None) -> SweepSpec:
+    """Check a parsed SPEC against its scenario; every error is one ``ValueError`` line naming
+    ``where`` and the key."""
+    if not isinstance(d, dict):
+        raise ValueError(f"{where}: expected a JSON object, got {type(d).__name__}")
+    extra = sorted(set(d) - _TOP)
+    if extra:
+        raise ValueError(f"{where}: unknown key '{extra[0]}' (expected one of: {', '.join(sorted(_TOP))})")
+    for k in ("scenario", "problem", "sampler", "n", "seed", "outputs"):
+        if k not in d:
+            raise ValueError(f"{where}: missing required key '{k}'")
+    raw = copy.deepcopy(d)
+    scen = d["scenario"]
+    if isinstance(scen, str):
+        p = FsPath(scen) if base_dir is None or FsPath(scen).is_absolute() else FsPath(base_dir) / scen
+        try:
+            scen = json.loads(p.read_text())
+        except OSError as e:
+            raise ValueError(f"{where}.scenario: cannot read {p} ({e.strerror})") from None
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{where}.scenario: {p}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
+        raw["scenario"] = scen
+    try:
+        system, opts = scenario_from_dict(scen)
+    except ValueError as e:
+        raise ValueError(f"{where}.scenario: {e}") from None
+    names, bounds = check_problem(d["problem"], f"{where}.problem")
+    paths = []
+    for i, name in enumerate(names):
+        p = parse_path(name, system, f"{where}.problem.names[{i}]")
+        if p.bounds is not None and not (p.bounds[0] <= bounds[i, 0] and bounds[i, 1] <= p.bounds[1]):
+            raise ValueError(f"{where}.problem.bounds[{i}] ({name}): [{bounds[i, 0]:g}, {bounds[i, 1]:g}] leaves the "
+                             f"parameter's range [{p.bounds[0]:g}, {p.bounds[1]:g}] {p.unit or ''}".rstrip())
+        paths.append(p)
+    # Two names writing the same number would silently keep only the last.
+    keys = [(p.steps, p.element) for p in paths]
+    for i, k in enumerate(keys):
+        if keys.index(k) != i:
+            raise ValueError(f"{where}.problem.names[{i}] '{names[i]}': the same parameter as names[{keys.index(k)}]")
+    n = d["n"]
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ValueError(f"{where}.n: expected a positive integer, got {n!r}")
+    kind = d["sampler"]
+    if kind == "sobol":
+        so = d.get("second_order", False)
+        if not isinstance(so, bool):
+            raise ValueError(f"{where}.second_order: expected true or false, got {so!r}")
+        sampler: AbstractSampler = Saltelli(calc_second_order=so)
+    elif kind == "lhs":
+        sampler = LatinHypercube()
+    elif kind == "grid":
+        lv = d.get("levels")
+        if lv is not None and (not isinstance(lv, list) or not all(isinstance(k, int) and not isinstance(k, bool) for k in lv)):
+            raise ValueError(f"{where}.levels: expected a list of integers (one per name), got {lv!r}")
+        sampler = Grid(tuple(lv) if lv else None)
+    else:
+        raise ValueError(f"{where}.sampler: expected \"sobol\", \"lhs\" or \"grid\", got {kind!r}")
+    for k in ("second_order",):
+        if k in d and kind != "sobol":
+            raise ValueError(f"{where}.{k}: only for the sobol sampler")
+    if "levels" in d and kind != "grid":
+        raise ValueError(f"{where}.levels: only for the grid sampler")
+    bad = sampler.check_n(n, len(names))
+    if bad:
+        raise ValueError(f"{where}.n: {bad}")
+    seed = d["seed"]
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"{where}.seed: expected an integer >= 0, got {seed!r}")
+    outputs = _outputs(d["outputs"], f"{where}.outputs")
+    if "stepping" in d:
+        s = d["stepping"]
+        if not isinstance(s, dict) or sorted(set(s) - {"solver", "dt"}):
+            raise ValueError(f"{where}.stepping: expected {{\"solver\": one of {', '.join(_FIXED_SOLVERS)}, \"dt\": seconds}}")
+        name = s.get("solver", "tsit5")
+        if name not in _FIXED_SOLVERS:
+            raise ValueError(f"{where}.stepping.solver: expected one of {', '.join(_FIXED_SOLVERS)}, got {name!r}")
+        dt = _pos(s, "dt", f"{where}.stepping", 2.5e-3)
+        h = 1.0 / opts["sample_hz"]
+        if dt > h * (1 + 1e-9) and abs(dt / h - round(dt / h)) > 1e-9 * dt / h:
+            raise ValueError(f"{where}.stepping.dt: expected a step <= the sample period {h!r} s or a whole "
+                             f"multiple of it, got {dt!r}")
+        fast = FixedStep(_FIXED_SOLVERS[name](), dt=dt)
+    elif isinstance(opts.get("stepping"), FixedStep):
+        fast = opts["stepping"]
+    else:
+        # A scenario solves adaptively by default; a sweep's first solve is the fast fixed step.
+        fast = FixedStep(diffrax.Tsit5(), dt=min(2.5e-3, 1.0 / opts["sample_hz"]))
+    fb = d.get("fallback", {})
+    if fb is None:
+        stiff = None
+    elif isinstance(fb, dict) and not sorted(set(fb) - {"rtol", "atol", "max_steps"}):
+        w = f"{where}.fallback"
+        stiff = Adaptive(diffrax.Kvaerno5(), rtol=_pos(fb, "rtol", w, STIFF_DEFAULT["rtol"]),
+                         atol=_pos(fb, "atol", w, STIFF_DEFAULT["atol"]),
+                         max_steps=_int(fb, "max_steps", w, STIFF_DEFAULT["max_steps"]))
+    else:
+        raise ValueError(f"{where}.fallback: expected null or {{\"rtol\", \"atol\", \"max_steps\"}}")
+    chunk = _int(d, "chunk_size", where, 4096)
+    nres = _int(d, "num_resamples", where, 100, lo=2)
+    conf = d.get("conf_level", 0.95)
+    if isinstance(conf, bool) or not isinstance(conf, (int, float)) or not 0 < conf < 1:
+        raise ValueError(f"{where}.conf_level: expected a number in (0, 1), got {conf!r}")
+    return SweepSpec(raw, system, opts["duration_s"], opts["sample_hz"], tuple(names), bounds, tuple(paths),
+                     sampler, n, seed, outputs, fast, stiff, chunk, nres, float(conf))
+
+
+def load_spec(path) -> SweepSpec:
+    """Read and check a SPEC file; errors are one line starting with the file's path."""
+    path = FsPath(path)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such file") from None
+    except OSError as e:
+        raise ValueError(f"{path}: cannot read ({e.strerror})") from None
+    try:
+        d = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{path}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
+    return spec_from_dict(d, str(path), path.parent)
