@@ -35,11 +35,12 @@ def run(args) -> int:
         raise ValueError("--coordinator, --num-processes and --process-id go together")
     if args.max_chunks is not None and args.max_chunks < 1:
         raise ValueError(f"--max-chunks: expected a positive integer, got {args.max_chunks}")
-    spec = load_spec(args.spec)  # every check before any file is written
     if args.coordinator is not None:
+        # Before any JAX computation (building the scenario's arrays is one).
         import jax
 
         jax.distributed.initialize(args.coordinator, num_processes=args.num_processes, process_id=args.process_id)
+    spec = load_spec(args.spec)  # every check before any file is written
     res = run_sweep(spec, args.out, progress=not args.no_progress, shard=False if args.no_shard else None,
                     max_chunks=args.max_chunks, figures=not args.no_figures)
     summary = {k: v for k, v in res.to_json().items() if k != "indices"}
