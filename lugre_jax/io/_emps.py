@@ -20,6 +20,11 @@ Preprocessing reproduces the benchmark's IDIM-LS script step by step:
 
 The benchmark's relative error is ``100*norm(y - y_hat)/norm(y)`` on these decimated samples
 (``y`` = decimated force), with the model fitted on all of them.
+
+:func:`read_emps_mat` is the strict raw reader (1 kHz columns, no preprocessing) used by
+:mod:`lugre_jax.emps`, which also has the script-exact IDIM-LS (the observation matrix, including
+``sign(dq)``, is built at 1 kHz and then decimated column by column, as the MATLAB script does;
+:func:`emps_idim_ls` here takes ``sign`` of the decimated velocity instead, hence its 4.84 %).
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import equinox as eqx
 import numpy as np
 
 from ._recording import Recording, central_difference
@@ -44,6 +50,109 @@ EMPS_REFERENCE = {
     "symmetric": {"M": 95.1089, "Fv": 203.5034, "Fc": 20.3935, "offset": -3.1648, "rel_err_pct": 4.08},
     "asymmetric": {"Fv+": 166.71, "Fc+": 20.14, "Fv-": 240.42, "Fc-": 20.63, "rel_err_pct": 3.11},
 }
+
+
+EMPS_KEYS = ("t", "qm", "qg", "vir", "gtau", "kp", "kv")
+
+
+class EmpsRun(eqx.Module):
+    """One EMPS run as recorded (1 kHz, SI units), no preprocessing.
+
+    ``t`` [s], ``qm`` motor position [m], ``qg`` reference position [m], ``vir`` controller output [V],
+    ``gtau`` [N/V] (motor force = gtau*vir), ``kp`` [1/s] and ``kv`` [V*s/m] the loop gains, and
+    ``pulses_N`` the known external force on the load [N] (validation runs; zeros when absent,
+    ``has_pulses`` says which).
+    """
+
+    t: np.ndarray
+    qm: np.ndarray
+    qg: np.ndarray
+    vir: np.ndarray
+    pulses_N: np.ndarray
+    gtau: float = eqx.field(static=True)
+    kp: float = eqx.field(static=True)
+    kv: float = eqx.field(static=True)
+    has_pulses: bool = eqx.field(static=True, default=False)
+    source: str = eqx.field(static=True, default="<memory>")
+
+    @property
+    def n(self) -> int:
+        return int(self.t.shape[0])
+
+    @property
+    def dt(self) -> float:
+        return float(np.median(np.diff(self.t)))
+
+    @property
+    def force(self) -> np.ndarray:
+        """Motor force gtau*vir [N]."""
+        return self.gtau * self.vir
+
+    def slice(self, start: int, stop: int | None = None) -> "EmpsRun":
+        """Samples ``start:stop`` (time keeps its absolute values)."""
+        s = slice(start, stop)
+        return EmpsRun(self.t[s], self.qm[s], self.qg[s], self.vir[s], self.pulses_N[s], self.gtau,
+                       self.kp, self.kv, self.has_pulses, self.source)
+
+
+def read_emps_mat(path: str | os.PathLike) -> EmpsRun:
+    """Read an EMPS .mat file (DATA_EMPS.mat layout, optional ``pulses_N``) strictly.
+
+    Raises ``ValueError`` with one line naming the file and the missing or malformed key.
+    """
+    import scipy.io
+
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: EMPS file not found; pass the path to a .mat file with "
+                         f"{list(EMPS_KEYS)} (default ../shared/data/emps/DATA_EMPS.mat)")
+    try:
+        d = scipy.io.loadmat(str(path))
+    except Exception as e:  # scipy raises several types for a corrupt or foreign file
+        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ValueError(f"{path}: cannot read as a MATLAB .mat file ({msg})") from None
+    for k in EMPS_KEYS:
+        if k not in d:
+            raise ValueError(f"{path}: key '{k}' missing; expected an EMPS run with {list(EMPS_KEYS)} "
+                             f"(+ optional pulses_N)")
+
+    def column(k):
+        a = d[k]
+        if not (isinstance(a, np.ndarray) and a.dtype.kind in "fiu" and a.ndim == 2 and 1 in a.shape):
+            raise ValueError(f"{path}: key '{k}' must be a real column vector, got "
+                             f"{getattr(a, 'dtype', type(a))} of shape {np.shape(a)}")
+        a = np.asarray(a, np.float64).ravel()
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{path}: key '{k}' has {int(np.sum(~np.isfinite(a)))} non-finite values")
+        return a
+
+    def scalar(k):
+        a = d[k]
+        if not (isinstance(a, np.ndarray) and a.dtype.kind in "fiu" and a.size == 1):
+            raise ValueError(f"{path}: key '{k}' must be a real scalar, got shape {np.shape(a)}")
+        v = float(a.ravel()[0])
+        if not (np.isfinite(v) and v > 0):
+            raise ValueError(f"{path}: key '{k}' must be positive and finite, got {v}")
+        return v
+
+    cols = {k: column(k) for k in ("t", "qm", "qg", "vir")}
+    has_pulses = "pulses_N" in d
+    cols["pulses_N"] = column("pulses_N") if has_pulses else np.zeros_like(cols["t"])
+    n = cols["t"].shape[0]
+    for k, a in cols.items():
+        if a.shape[0] != n:
+            raise ValueError(f"{path}: key '{k}' has {a.shape[0]} samples, expected {n} (as 't')")
+    if n < 100:
+        raise ValueError(f"{path}: key 't' has {n} samples, expected at least 100")
+    dt = np.diff(cols["t"])
+    if not np.all(dt > 0):
+        raise ValueError(f"{path}: key 't' must increase strictly (sample {int(np.argmin(dt > 0)) + 1})")
+    med = float(np.median(dt))
+    if np.max(np.abs(dt - med)) > 0.01 * med:
+        raise ValueError(f"{path}: key 't' must be uniformly sampled (median step {med:g} s, "
+                         f"largest deviation {np.max(np.abs(dt - med)):g} s)")
+    return EmpsRun(cols["t"], cols["qm"], cols["qg"], cols["vir"], cols["pulses_N"], scalar("gtau"),
+                   scalar("kp"), scalar("kv"), has_pulses, str(path))
 
 
 def default_emps_path(data_root: str | os.PathLike = "../shared/data") -> Path:

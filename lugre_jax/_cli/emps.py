@@ -1,0 +1,80 @@
+"""``lugre-jax emps [--data FILE.mat] [--validate OTHER.mat] --out DIR``.
+
+Thin wrapper around :func:`lugre_jax.emps.identify_emps` and :func:`lugre_jax.emps.write_emps_outputs`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._args import comma_choices
+
+
+def _default_data() -> Path:
+    from ..io import default_emps_path
+
+    here = default_emps_path()
+    if here.exists():
+        return here
+    # relative to the repository root (../shared/data beside the checkout), wherever we run from
+    return Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "emps",
+        help="EMPS benchmark: simulate the drive in closed loop, identify friction models, score them",
+        description=(
+            "Reproduce the EMPS benchmark's IDIM-LS, fit each friction model by output error through "
+            "the sampled-data closed loop (driven by qg) and under the benchmark protocol (driven by "
+            "vir, truncated simulation error), and score both on the held-out last 30 %% of the "
+            "estimation run and on --validate. Writes DIR/RESULT.json, validation_benchmark.csv, "
+            "validation_closed_loop.csv and PNG figures."),
+    )
+    p.add_argument("--data", help="estimation run .mat (default ../shared/data/emps/DATA_EMPS.mat)")
+    p.add_argument("--validate", help="validation run .mat (same layout, optional pulses_N)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--models", help="comma-separated subset of models (default: all)")
+    p.add_argument("--train-fraction", type=float, default=0.7,
+                   help="fraction of the estimation run used for fitting (default 0.7)")
+    p.add_argument("--segments", type=int, default=64,
+                   help="shooting segments of the benchmark-protocol fit (default 64)")
+    p.add_argument("--segment-len", type=int, default=500,
+                   help="samples per shooting segment (default 500)")
+    p.add_argument("--max-steps", type=int, default=60, help="Levenberg-Marquardt step limit (default 60)")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+
+
+def run(args) -> int:
+    from ..emps import MODELS, identify_emps, read_emps_mat, write_emps_outputs
+
+    by_label = {m.label: m for m in MODELS}
+    models = tuple(by_label[k] for k in comma_choices(args.models, list(by_label), "--models")) \
+        if args.models else MODELS
+    if args.segments < 1 or args.segment_len < 20:
+        raise ValueError(f"--segments must be >= 1 and --segment-len >= 20, got {args.segments}, "
+                         f"{args.segment_len}")
+    if args.max_steps < 1:
+        raise ValueError(f"--max-steps must be >= 1, got {args.max_steps}")
+    data = Path(args.data) if args.data else _default_data()
+    if not args.data and not data.exists():
+        raise ValueError(f"{data}: EMPS estimation run not found; pass --data DATA_EMPS.mat "
+                         f"(see ../shared/data/README.md)")
+    run_ = read_emps_mat(data)
+    val = read_emps_mat(args.validate) if args.validate else None
+    report = identify_emps(run_, val, models=models, train_fraction=args.train_fraction,
+                           n_segments=args.segments, segment_len=args.segment_len,
+                           max_steps=args.max_steps, progress=not args.quiet)
+    paths = write_emps_outputs(report, args.out)
+    if not args.quiet:
+        j = report.to_json()
+        run_name = "validation" if val is not None else "held_out"
+        print(f"IDIM-LS: {j['idim']['symmetric']['params']} rel. error "
+              f"{j['idim']['symmetric']['rel_err_pct']:.3f} % (published 4.08 %)")
+        for k, m in report.models.items():
+            c, b = m.closed_loop[run_name], m.benchmark[run_name]
+            print(f"{k:18s} {run_name}: closed loop pos {c.position_pct:.4f} % vel {c.velocity_pct:.3f} % "
+                  f"force {c.force_pct:.2f} %; benchmark RMSE {b.rmse_mm:.2f} mm R2 {b.r2:.4f} "
+                  f"fit {b.fit_index:.1f} %")
+        print(f"total {report.total_time_s:.1f} s; wrote {', '.join(str(p) for p in paths)}")
+    return 0
