@@ -1,8 +1,10 @@
 """Parameters that carry their unit and bounds.
 
 Every physical parameter of a model is declared with :func:`param`, which stores the unit and the
-identification bounds as field metadata. Optimisers read the bounds with :func:`bounds_of`, so the
-bounds live beside the physics, once.
+identification bounds as field metadata. This is the package's one parameter registry: names, order,
+units and bounds are read from the model class (or an instance) with :func:`names_of`,
+:func:`units_of`, :func:`bounds_of`, and parameter vectors are converted with :func:`to_vector` /
+:func:`from_vector`; nothing else lists them.
 """
 
 from __future__ import annotations
@@ -30,21 +32,24 @@ def param(unit: str, lower: float = -np.inf, upper: float = np.inf, *, convert: 
     return eqx.field(metadata=metadata, **kwargs)
 
 
-def param_fields(module: eqx.Module) -> list[dataclasses.Field]:
-    """The fields of ``module`` declared with :func:`param`, in declaration order."""
+def param_fields(module: eqx.Module | type[eqx.Module]) -> list[dataclasses.Field]:
+    """The fields of ``module`` (a model class or instance) declared with :func:`param`, in
+    declaration order."""
     return [f for f in dataclasses.fields(module) if "bounds" in f.metadata]
 
 
-def names_of(module: eqx.Module) -> tuple[str, ...]:
+def names_of(module: eqx.Module | type[eqx.Module]) -> tuple[str, ...]:
+    """Parameter names of a model class or instance, in declaration (= vector) order."""
     return tuple(f.name for f in param_fields(module))
 
 
-def units_of(module: eqx.Module) -> dict[str, str]:
+def units_of(module: eqx.Module | type[eqx.Module]) -> dict[str, str]:
+    """Parameter name -> unit, in declaration order."""
     return {f.name: f.metadata["unit"] for f in param_fields(module)}
 
 
-def bounds_of(module: eqx.Module) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds of the module's parameters, as two float64 arrays."""
+def bounds_of(module: eqx.Module | type[eqx.Module]) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of the parameters of a model class or instance, as two float64 arrays."""
     fs = param_fields(module)
     lo = np.array([f.metadata["bounds"][0] for f in fs], dtype=np.float64)
     hi = np.array([f.metadata["bounds"][1] for f in fs], dtype=np.float64)
@@ -60,9 +65,9 @@ def to_vector(module: eqx.Module):
 
 def from_vector(cls, x, **static: Any):
     """Build ``cls`` from a vector (``..., n_params``) ordered as ``names_of(cls)``."""
-    names = [f.name for f in dataclasses.fields(cls) if "bounds" in f.metadata]
+    names = names_of(cls)
     if x.shape[-1] != len(names):
         raise ValueError(
-            f"{cls.__name__} has {len(names)} parameters {names}; got a vector of length {x.shape[-1]}"
+            f"{cls.__name__} has {len(names)} parameters {list(names)}; got a vector of length {x.shape[-1]}"
         )
     return cls(**{n: x[..., i] for i, n in enumerate(names)}, **static)

@@ -1,5 +1,6 @@
-"""The experiment folders' plot.py scripts share one argument handler: ``--results`` (alias
-``--out``) and a one-line message naming the run.py to run when results are missing."""
+"""The experiment folders' plot.py scripts share one argument handler (experiments/_common.py, an
+application beside the library): ``--results`` (alias ``--out``) and a one-line message naming the
+run.py to run when results are missing."""
 
 import subprocess
 import sys
@@ -7,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from lugre_jax.reproduce._experiment import results_for_plot
-
 REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "experiments"))
+from _common import results_for_plot  # noqa: E402
 
 
 def test_missing_results_name_the_run_script(tmp_path):

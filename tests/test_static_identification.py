@@ -10,18 +10,31 @@ import numpy as np
 import pytest
 
 from lugre_jax.cli import main as cli_main
-from lugre_jax.friction import CoulombViscous, Stribeck
-from lugre_jax.identify._data_gen import (
+from lugre_jax.friction import CoulombViscous, Stribeck, bounds_of, from_vector, names_of, units_of
+from lugre_jax.identify import (
+    auto_bounds,
+    check_bounds_fit,
+    crlb,
+    detect_boundaries,
+    fit_smoothing_spline,
+    fit_sum_of_sines,
+    fit_tangent_branch,
+    identify_piecewise,
+    identify_whole,
     make_paper_like_samples,
     minimum_torque_velocity,
     paper_like_velocities,
     sample_stribeck_data,
+    standard_errors,
     table1_static_model,
 )
-from lugre_jax.identify._schemes import check_bounds_fit, curve, detect_boundaries, identify_piecewise, identify_whole
-from lugre_jax.identify._smoothing import fit_smoothing_spline, fit_sum_of_sines, fit_tangent_branch
-from lugre_jax.identify._uncertainty import crlb, standard_errors
-from lugre_jax.io._stribeck_data import summarise_samples
+from lugre_jax.io import summarise_samples
+from lugre_jax.plant import TABLE1
+
+
+def curve(kind, x, v):
+    """Steady-state torque of the model ``kind`` with parameter vector ``x`` (the public route)."""
+    return from_vector({"stribeck": Stribeck, "coulomb_viscous": CoulombViscous}[kind], x).steady_state(v)
 
 TRUTH = np.array([0.9, 2.4, 0.05, 3.0])  # Fc [N*m], Fs [N*m], vs [deg/s], sigma2 [N*m*s/deg]
 NOISE = 0.08  # N*m per sample, 30 samples per set-point
@@ -79,7 +92,6 @@ def test_standard_errors_flag_unidentifiable_parameter():
 def test_piecewise_recovers_table1_with_paper_edges():
     """Accelerating-branch data drawn from Table 1 (segments split at 0.05 and 1.2 deg/s): the
     piecewise scheme with those edges recovers each segment's parameters within 3.5 SE."""
-    from lugre_jax.plant._paper import TABLE1
 
     d = sample_stribeck_data(table1_static_model(), ACCEL_V, key=jax.random.key(7), noise_sd=NOISE)
     # Table 1 itself jumps by 0.008 N*m at 0.05 deg/s: recover each segment on its own (no continuity
@@ -149,6 +161,10 @@ def test_cli_identify_whole_and_errors(tmp_path, capsys):
     assert abs(seg["parameters"]["Fc"] - 1.0) < 0.05 and abs(seg["parameters"]["sigma2"] - 2.0) < 0.05
     for key in ("velocity_range_deg_s", "loss", "standard_errors", "evaluations", "wall_time_s"):
         assert key in seg
+    # typed result's record: units and bounds from the model's declaration, the optimiser's steps
+    assert seg["units"] == {"Fc": "N*m", "sigma2": "N*m*s/deg"}
+    assert seg["bounds"] == {"Fc": [0.0, 10.0], "sigma2": [0.0, 10.0]} and seg["steps"] == 1
+    assert res["wall_time_s"] >= seg["wall_time_s"] > 0
     # torques above 10 N*m cannot be fitted with the paper's bounds -> exit 2 with a clear message
     big = tmp_path / "big.csv"
     big.write_text("velocity_deg_s,torque_nm\n" + "".join(f"{v},{15 + v}\n{v},{15.1 + v}\n" for v in (0.01, 0.02, 0.1, 0.5, 1.0)))
@@ -160,3 +176,23 @@ def test_cli_identify_whole_and_errors(tmp_path, capsys):
     assert cli_main(["identify", str(bad), "--out", str(tmp_path / "y.json")]) == 2
     assert "bad.csv:3" in capsys.readouterr().err
     assert not (tmp_path / "y.json").exists()
+
+
+def test_parameter_registry_is_the_models_declaration():
+    # the scheme code derives names, order, units and bounds from the friction models' param() fields
+    from lugre_jax.identify._schemes import NAMES, UNITS, default_bounds  # internals under test
+
+    assert NAMES["stribeck"] == names_of(Stribeck) == ("Fc", "Fs", "vs", "sigma2")
+    assert NAMES["coulomb_viscous"] == names_of(CoulombViscous) == ("Fc", "sigma2")
+    assert UNITS == {"Fc": "N*m", "Fs": "N*m", "vs": "deg/s", "sigma2": "N*m*s/deg"} == units_of(Stribeck)
+    for kind, cls in (("stribeck", Stribeck), ("coulomb_viscous", CoulombViscous)):
+        np.testing.assert_array_equal(np.stack(default_bounds(kind)), np.stack(bounds_of(cls)))
+    # the paper's section 4.2.2 ranges, read independently of the registry
+    np.testing.assert_array_equal(np.stack(bounds_of(Stribeck)), [[0, 0, 0, 0], [10, 10, 1, 10]])
+    # auto bounds follow each parameter's unit: torques 2*max|tau|, velocity max|v|, viscous their ratio
+    d = sample_stribeck_data(Stribeck(1.0, 1.5, 0.2, 0.5), np.linspace(0.05, 4.0, 12), key=jax.random.key(1),
+                             n_repeats=2, noise_sd=0.0)
+    tmax, vmax = float(np.max(np.abs(d.torque))), float(np.max(np.abs(d.velocity)))
+    lo, hi = auto_bounds("stribeck", d)
+    np.testing.assert_allclose(hi, [2 * tmax, 2 * tmax, vmax, 2 * tmax / vmax], rtol=1e-15)
+    assert np.all(lo == 0)

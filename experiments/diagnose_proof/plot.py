@@ -11,11 +11,13 @@ from __future__ import annotations
 
 import json
 from collections import defaultdict
+import sys
 from pathlib import Path
 
 import numpy as np
 
-from lugre_jax.reproduce._experiment import results_for_plot
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import results_for_plot  # noqa: E402
 
 RECOVERY = {  # effect -> [(param, relative tolerance)]; amplitude = RMS of the effect torque
     "position_ripple": [("period", 0.05), ("amplitude", 0.30)],

@@ -12,10 +12,8 @@ from pathlib import Path
 import jax.numpy as jnp
 import numpy as np
 
-from lugre_jax.identify._data_gen import decel_branch, minimum_torque_velocity, table1_static_model
-from lugre_jax.identify._schemes import detect_boundaries
-from lugre_jax.io import write_csv, write_json
-from lugre_jax.io._stribeck_data import load_stribeck_csv
+from lugre_jax.identify import decel_branch, detect_boundaries, minimum_torque_velocity, table1_static_model
+from lugre_jax.io import load_stribeck_csv, write_csv, write_json
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options

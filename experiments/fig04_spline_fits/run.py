@@ -9,9 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from lugre_jax.identify._schemes import smooth_segments
-from lugre_jax.io import write_csv, write_json
-from lugre_jax.io._stribeck_data import load_stribeck_csv
+from lugre_jax.identify import smooth_segments
+from lugre_jax.io import load_stribeck_csv, write_csv, write_json
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
@@ -46,7 +45,7 @@ def main() -> None:
                        slope_gap_nm_s_per_deg=float(sm.decel_curve.derivative(b.v_min) - sm.splines["1"].derivative(b.v_min)))
     write_json(out / "fig04.json", dict(
         data=a.data, v_min_deg_s=b.v_min, v_crit_deg_s=b.v_crit, detected=b.detected,
-        sum_of_sines_eq12={k: s.as_dict() for k, s in sm.sines.items()}, tangency_at_v_min=tangent,
+        sum_of_sines_eq12={k: s.to_json() for k, s in sm.sines.items()}, tangency_at_v_min=tangent,
         n_points={k: len(v) for k, v in sm.segments.items()},
     ))
     for k, s in sm.sines.items():

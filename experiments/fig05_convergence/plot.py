@@ -8,13 +8,16 @@ Writes DIR/fig05_convergence.png.
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from lugre_jax.io._atomic import save_figure
-from lugre_jax.reproduce._experiment import results_for_plot
+from lugre_jax.io import save_figure
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import results_for_plot  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 

@@ -27,7 +27,7 @@ sys.path.insert(0, str(HERE.parent / "optimiser_benchmark"))
 from static_problem import NOISE_SD, Problem  # noqa: E402
 
 from lugre_jax.identify import optimise  # noqa: E402
-from lugre_jax.io._atomic import write_csv, write_json  # noqa: E402
+from lugre_jax.io import write_csv, write_json  # noqa: E402
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options

@@ -1,13 +1,16 @@
 """Plot Fig. 6 (identified Stribeck curve over the data's fitting curve) from results/."""
 
 import json
+import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
-from lugre_jax.reproduce._experiment import results_for_plot
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import results_for_plot  # noqa: E402
 
 
 def main(argv=None) -> None:

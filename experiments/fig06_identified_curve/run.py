@@ -10,10 +10,10 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from lugre_jax.identify._schemes import identify_piecewise
+from lugre_jax.identify import identify_piecewise
 from lugre_jax.io import write_csv, write_json
-from lugre_jax.identify._data_gen import table1_static_model
-from lugre_jax.io._stribeck_data import load_stribeck_csv
+from lugre_jax.identify import table1_static_model
+from lugre_jax.io import load_stribeck_csv
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
@@ -33,7 +33,7 @@ def main() -> None:
     d = load_stribeck_csv(a.data)
     r = identify_piecewise(d, a.method, key=jax.random.key(6), n_seeds=a.seeds, refine=not a.no_refine)
     print(r.table())
-    write_json(out / "identification.json", r.as_dict())
+    write_json(out / "identification.json", r.to_json())
     g = np.geomspace(0.004, 1.5, 600)
     dec = g < r.boundaries.v_min
     write_csv(out / "curves.csv", dict(

@@ -1,13 +1,16 @@
 """Plot the TRO2021 fits (data +- 2 SE, each model) from experiments/real_data_tro2021/results/."""
 
 import json
+import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 from lugre_jax.io import save_figure
-from lugre_jax.reproduce._experiment import results_for_plot
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import results_for_plot  # noqa: E402
 
 MODELS = ("coulomb_viscous_whole", "stribeck_whole", "stribeck_piecewise")
 

@@ -17,9 +17,8 @@ import jax
 import numpy as np
 from tqdm import tqdm
 
-from lugre_jax.identify._schemes import identify_piecewise, identify_whole
-from lugre_jax.io import write_csv, write_json
-from lugre_jax.io._epos import load_epos_steady_state
+from lugre_jax.identify import identify_piecewise, identify_whole
+from lugre_jax.io import load_epos_steady_state, write_csv, write_json
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
@@ -79,7 +78,7 @@ def main() -> int:
                           loss_by_method=losses,
                           segments=[dict(name=s.name, v_range=list(s.v_range), params=s.params, se=s.se,
                                          statement=s.uncertainty.statement) for s in r.segments]))
-        details[tag] = r.as_dict()
+        details[tag] = r.to_json()
         g = np.linspace(float(d.velocity.min()), float(d.velocity.max()), 400)
         curves[tag] = (g, r.predict(g), d.velocity, d.torque, d.torque_se)
     write_json(out / "real_data.json", dict(table=table, details=details, methods=methods, seeds=a.seeds,

@@ -16,10 +16,8 @@ import jax
 import numpy as np
 from tqdm import tqdm
 
-from lugre_jax.friction import Stribeck
-from lugre_jax.identify._data_gen import paper_like_velocities, sample_stribeck_data
-from lugre_jax.identify._schemes import curve, identify_whole
-from lugre_jax.identify._uncertainty import crlb
+from lugre_jax.friction import Stribeck, from_vector
+from lugre_jax.identify import crlb, identify_whole, paper_like_velocities, sample_stribeck_data
 from lugre_jax.io import write_csv, write_json
 import lugre_jax as _lj  # noqa: E402
 
@@ -40,7 +38,7 @@ def main() -> None:
     a = ap.parse_args()
     out = Path(a.out)
     v, _ = paper_like_velocities(0.09)
-    bound = crlb(lambda x, vv: curve("stribeck", x, vv), TRUTH, v, NOISE / np.sqrt(REPEATS))
+    bound = crlb(lambda x, vv: from_vector(Stribeck, x).steady_state(vv), TRUTH, v, NOISE / np.sqrt(REPEATS))
     xs, ses, losses = [], [], []
     for i in tqdm(range(a.n), desc="realisations"):
         d = sample_stribeck_data(Stribeck(*TRUTH), v, key=jax.random.key(10_000 + i), n_repeats=REPEATS, noise_sd=NOISE)

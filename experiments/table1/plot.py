@@ -1,13 +1,15 @@
 """Render Table 1 (paper vs regenerated) from experiments/table1/results/ as PNG and Markdown."""
 
 import json
+import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from lugre_jax.io import save_figure
-from lugre_jax.io._atomic import atomic_path
-from lugre_jax.reproduce._experiment import results_for_plot
+from lugre_jax.io import atomic_path, save_figure
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import results_for_plot  # noqa: E402
 
 NAMES = ("Fc", "Fs", "vs", "sigma2")
 

@@ -14,10 +14,9 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from lugre_jax.identify._schemes import identify_piecewise
-from lugre_jax.io import write_csv, write_json
-from lugre_jax.io._stribeck_data import load_stribeck_csv
-from lugre_jax.plant._paper import TABLE1
+from lugre_jax.identify import identify_piecewise
+from lugre_jax.io import load_stribeck_csv, write_csv, write_json
+from lugre_jax.plant import TABLE1
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
@@ -51,7 +50,7 @@ def main() -> None:
             continue
         r = identify_piecewise(d, method, key=jax.random.key(i), n_seeds=a.seeds * mult, refine=refine, edges=edges, target=target,
                                continuity_weight=cw)
-        results[name] = r.as_dict()
+        results[name] = r.to_json()
         print(f"\n== {name}\n{r.table()}")
         for s in r.segments:
             p, se = s.params, s.se

@@ -11,9 +11,8 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from lugre_jax.identify._schemes import identify_piecewise, identify_whole
-from lugre_jax.io import write_csv, write_json
-from lugre_jax.io._stribeck_data import load_stribeck_csv
+from lugre_jax.identify import identify_piecewise, identify_whole
+from lugre_jax.io import load_stribeck_csv, write_csv, write_json
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
@@ -62,8 +61,8 @@ def main() -> None:
               f"{summary[name]['rms_piecewise_nm']:.4f} (detected edges), {summary[name]['rms_piecewise_paper_edges_nm']:.4f} "
               f"(paper edges 0.05/1.2) N*m (noise SE {summary[name]['mean_se_nm']:.4f})")
     write_json(out / "whole_vs_piecewise.json", dict(method=a.method, seeds=a.seeds, refine=a.refine, windows=summary,
-                                                     whole=whole.as_dict(), piecewise=piece.as_dict(),
-                                                     piecewise_paper_edges=paper.as_dict()))
+                                                     whole=whole.to_json(), piecewise=piece.to_json(),
+                                                     piecewise_paper_edges=paper.to_json()))
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
 """``lugre-jax identify DATA``: static (Stribeck) identification, whole or piecewise (paper section 4.2).
 
 DATA is a Stribeck CSV (velocity_deg_s, torque_nm[, branch]) or an EPOS Studio steady-state folder.
-Writes RESULT.json (one entry per segment: velocity range, Fc/Fs/vs/sigma2 in the paper's units,
-loss, standard errors, evaluations, wall time) and optionally a PNG of the identified curve.
+Writes RESULT.json (``Identification.to_json()``: one entry per segment with velocity range,
+Fc/Fs/vs/sigma2 with their units and bounds, loss, standard errors, optimiser steps, evaluations,
+wall time) and optionally a PNG of the identified curve.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ def plot_identification(res, path) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from ..io._atomic import save_figure
+    from ..io import save_figure
 
     d = res.data
     fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -71,9 +72,8 @@ def plot_identification(res, path) -> None:
 def run(args) -> int:
     import jax
 
-    from ..identify._schemes import identify
-    from ..io._atomic import write_json
-    from ..io._epos import load_friction_data
+    from ..identify import identify
+    from ..io import load_friction_data, write_json
 
     if args.seeds < 1:
         raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
@@ -104,7 +104,7 @@ def run(args) -> int:
         res = identify(data, "piecewise", args.method, edges=edges, target=args.target, **kw)
     else:
         res = identify(data, "whole", args.method, kind=args.model, **kw)
-    out = res.as_dict()
+    out = res.to_json()
     out["command"] = dict(vars(args))
     write_json(args.out, out)
     print(res.table())

@@ -21,9 +21,12 @@ from ._run import METHODS as METHODS, OptimResult as OptimResult, make_optimiser
 
 # --- schemes, data, uncertainty ---
 from ._data_gen import (
+    decel_branch as decel_branch,
     make_paper_like_samples as make_paper_like_samples,
     minimum_torque_velocity as minimum_torque_velocity,
+    paper_like_velocities as paper_like_velocities,
     sample_stribeck_data as sample_stribeck_data,
+    table1_static_model as table1_static_model,
     write_paper_like_csv as write_paper_like_csv,
 )
 from ._schemes import (

@@ -25,7 +25,9 @@ errors always come from the data residuals.
 The loss handed to the optimisers is a pure ``jnp`` function of the parameter vector:
 ``0.5 * sum(((F(v_i; x) - tau_i) / se_i)**2)`` (the paper's ``J = 1/2 sum e^2`` with weights).
 
-Units: velocity deg/s, torque N*m, vs deg/s, sigma2 N*m*s/deg.
+Units: velocity deg/s, torque N*m, vs deg/s, sigma2 N*m*s/deg. Parameter names, their order, units
+and the paper's bounds are those the friction models declare (``lugre_jax/_params.py``): ``MODELS``
+maps each ``kind`` to its model class and everything below is read from it.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._params import bounds_of
+from .._params import bounds_of, from_vector, names_of, units_of
 from .._types import PRNGKeyArray
 from ..friction import CoulombViscous, Segmented, Stribeck
 from ..io._stribeck_data import StribeckData
@@ -45,8 +47,10 @@ from ._smoothing import SmoothingSpline, TangentBranch, fit_smoothing_spline, fi
 from ._uncertainty import Uncertainty, standard_errors
 
 Kind = Literal["stribeck", "coulomb_viscous"]
-NAMES: dict[str, tuple[str, ...]] = {"stribeck": ("Fc", "Fs", "vs", "sigma2"), "coulomb_viscous": ("Fc", "sigma2")}
-UNITS = {"Fc": "N*m", "Fs": "N*m", "vs": "deg/s", "sigma2": "N*m*s/deg"}
+# The static models of section 4.2; names, order, units and bounds come from their param() fields.
+MODELS: dict[str, type[Stribeck] | type[CoulombViscous]] = {"stribeck": Stribeck, "coulomb_viscous": CoulombViscous}
+NAMES: dict[str, tuple[str, ...]] = {k: names_of(m) for k, m in MODELS.items()}
+UNITS: dict[str, str] = {n: u for m in MODELS.values() for n, u in units_of(m).items()}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -56,31 +60,29 @@ UNITS = {"Fc": "N*m", "Fs": "N*m", "vs": "deg/s", "sigma2": "N*m*s/deg"}
 
 def curve(kind: Kind, x, v):
     """Steady-state torque [N*m] of a ``kind`` model with parameter vector ``x`` at ``v`` [deg/s]."""
-    if kind == "stribeck":
-        return Stribeck(Fc=x[0], Fs=x[1], vs=x[2], sigma2=x[3]).steady_state(v)
-    return CoulombViscous(Fc=x[0], sigma2=x[1]).steady_state(v)
+    return from_vector(MODELS[kind], x).steady_state(v)
 
 
 def model_of(kind: Kind, x):
-    x = np.asarray(x, dtype=np.float64)
-    if kind == "stribeck":
-        return Stribeck(Fc=x[0], Fs=x[1], vs=x[2], sigma2=x[3])
-    return CoulombViscous(Fc=x[0], sigma2=x[1])
+    """The ``kind`` model with parameter vector ``x`` (ordered as ``NAMES[kind]``)."""
+    return from_vector(MODELS[kind], np.asarray(x, dtype=np.float64))
 
 
 def default_bounds(kind: Kind) -> tuple[np.ndarray, np.ndarray]:
-    """The paper's identification ranges (section 4.2.2): Fc, Fs, sigma2 in [0, 10], vs in [0, 1]."""
-    return bounds_of(Stribeck(0.0, 0.0, 0.0, 0.0) if kind == "stribeck" else CoulombViscous(0.0, 0.0))
+    """The paper's identification ranges (section 4.2.2), as the model declares them: Fc, Fs, sigma2
+    in [0, 10], vs in [0, 1]."""
+    return bounds_of(MODELS[kind])
 
 
 def auto_bounds(kind: Kind, data: StribeckData) -> tuple[np.ndarray, np.ndarray]:
-    """Bounds scaled to the data (for drives far from the paper's N*m and deg/s scale): torques in
-    [0, 2*max|tau|], vs in [0, max|v|], sigma2 in [0, 2*max|tau|/max|v|]."""
+    """Bounds scaled to the data (for drives far from the paper's N*m and deg/s scale), chosen by each
+    parameter's declared unit: torques [N*m] in [0, 2*max|tau|], velocities [deg/s] in [0, max|v|],
+    viscous coefficients [N*m*s/deg] in [0, 2*max|tau|/max|v|]."""
     tmax = float(np.max(np.abs(data.torque)))
     vmax = float(np.max(np.abs(data.velocity)))
-    full = {"Fc": (0.0, 2 * tmax), "Fs": (0.0, 2 * tmax), "vs": (0.0, vmax), "sigma2": (0.0, 2 * tmax / vmax)}
-    names = NAMES[kind]
-    return np.array([full[n][0] for n in names]), np.array([full[n][1] for n in names])
+    upper = {"N*m": 2 * tmax, "deg/s": vmax, "N*m*s/deg": 2 * tmax / vmax}
+    units = units_of(MODELS[kind])
+    return np.zeros(len(units)), np.array([upper[u] for u in units.values()])
 
 
 def parse_bounds(spec: str | None, kind: Kind, data: StribeckData) -> tuple[np.ndarray, np.ndarray]:
@@ -167,6 +169,7 @@ class _Fit:
     evaluations: int  # loss evaluations over all seeds (a Jacobian counts as dim evaluations)
     wall_time: float  # s, execution of all seeds, compilation excluded
     compile_time: float  # s
+    steps: int  # optimiser steps per seed (max_steps; 1 for a local method)
 
 
 def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: int = 1, refine: bool = False, **settings) -> _Fit:
@@ -181,7 +184,8 @@ def run_optimiser(method: str, loss_fn, residual_fn, lo, hi, *, key, n_seeds: in
     xs = np.atleast_2d(np.asarray(res.x))
     ls = np.where(np.isfinite(res.loss), np.asarray(res.loss, dtype=np.float64), np.inf)
     i = int(np.argmin(ls))
-    return _Fit(xs[i], float(ls[i]), ls, int(np.sum(res.n_evals)), float(res.wall_time), float(res.compile_time))
+    return _Fit(xs[i], float(ls[i]), ls, int(np.sum(res.n_evals)), float(res.wall_time), float(res.compile_time),
+                res.steps)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -250,7 +254,11 @@ def detect_boundaries(data: StribeckData, *, n_grid: int = 20001) -> Boundaries:
 
 @dataclasses.dataclass(frozen=True)
 class SegmentFit:
-    """One identified segment (one row of a Table 1-style table)."""
+    """One identified segment (one row of a Table 1-style table); ``to_json()`` for the record.
+
+    ``x`` is ordered as ``names`` (the model's declared parameters), ``loss`` is the paper's ``J``
+    (weighted, 1/2 sum of squares) at ``x``; ``bounds`` the box searched.
+    """
 
     name: str
     kind: Kind
@@ -267,6 +275,8 @@ class SegmentFit:
     uncertainty: Uncertainty
     velocity: np.ndarray  # the set-points used [deg/s]
     residual: np.ndarray  # model - data [N*m] at those set-points
+    steps: int = 0  # optimiser steps per seed
+    bounds: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) searched, ordered as names
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -283,28 +293,41 @@ class SegmentFit:
     def model(self):
         return model_of(self.kind, self.x)
 
-    def as_dict(self) -> dict:
+    @property
+    def units(self) -> dict[str, str]:
+        return {n: UNITS[n] for n in self.names}
+
+    def to_json(self) -> dict:
+        """JSON-ready dict. Keys: segment, branch, model, velocity_range_deg_s, parameters (name ->
+        value), units (name -> unit), bounds (name -> [lower, upper]), loss, rms_nm, n_points,
+        steps, evaluations, wall_time_s, compile_time_s, seed_losses, and the uncertainty's keys
+        (standard_errors, relative_standard_errors, correlation, ...)."""
+        bounds = None if self.bounds is None else {
+            n: [float(lo), float(hi)] for n, lo, hi in zip(self.names, *self.bounds)}
         return dict(
             segment=self.name,
             branch=self.branch,
             model="Stribeck eq. (10)" if self.kind == "stribeck" else "Coulomb + viscous eq. (11)",
             velocity_range_deg_s=list(self.v_range),
             parameters=self.params,
-            units={n: UNITS[n] for n in self.names},
+            units=self.units,
+            bounds=bounds,
             loss=self.loss,
             rms_nm=self.rms,
             n_points=self.n_points,
+            steps=self.steps,
             evaluations=self.evaluations,
             wall_time_s=self.wall_time,
             compile_time_s=self.compile_time,
-            seed_losses=self.seed_losses.tolist(),
-            **self.uncertainty.as_dict(),
+            seed_losses=[float(v) if np.isfinite(v) else None for v in self.seed_losses],
+            **self.uncertainty.to_json(),
         )
 
 
 @dataclasses.dataclass(frozen=True)
 class Identification:
-    """Result of :func:`identify_whole` or :func:`identify_piecewise`."""
+    """Result of :func:`identify_whole` or :func:`identify_piecewise`; ``to_json()`` for the record
+    (what ``lugre-jax identify`` writes)."""
 
     scheme: str
     method: str
@@ -343,7 +366,19 @@ class Identification:
         r = np.concatenate([s.residual for s in self.segments])
         return float(np.sqrt(np.mean(r**2)))
 
-    def as_dict(self) -> dict:
+    @property
+    def wall_time(self) -> float:
+        """Optimiser execution over all segments and seeds [s], compilation excluded."""
+        return float(sum(s.wall_time for s in self.segments))
+
+    @property
+    def compile_time(self) -> float:
+        return float(sum(s.compile_time for s in self.segments))
+
+    def to_json(self) -> dict:
+        """JSON-ready dict: scheme, method, target, units, data, rms_nm, wall_time_s, compile_time_s,
+        segments (:meth:`SegmentFit.to_json` each), and for the piecewise scheme boundaries,
+        continuity_jumps_nm and sum_of_sines_eq12."""
         out = dict(
             scheme=self.scheme,
             method=self.method,
@@ -351,19 +386,21 @@ class Identification:
             units=dict(velocity="deg/s", torque="N*m", **UNITS),
             data=dict(source=self.data.source, n_set_points=len(self.data), notes=list(self.data.notes)),
             rms_nm=self.rms(),
-            segments=[s.as_dict() for s in self.segments],
+            wall_time_s=self.wall_time,
+            compile_time_s=self.compile_time,
+            segments=[s.to_json() for s in self.segments],
         )
         if self.boundaries is not None:
             b = self.boundaries
             out["boundaries"] = dict(v_min_deg_s=b.v_min, tau_min_nm=b.tau_min, v_crit_deg_s=b.v_crit, detected=b.detected)
             out["continuity_jumps_nm"] = self.jumps
         if self.sines:
-            out["sum_of_sines_eq12"] = {k: s.as_dict() for k, s in self.sines.items()}
+            out["sum_of_sines_eq12"] = {k: s.to_json() for k, s in self.sines.items()}
         return out
 
     def table(self) -> str:
         """Table 1-style text table, one row per segment, value +- standard error."""
-        cols = ["Fc", "Fs", "vs", "sigma2"]
+        cols = list(UNITS)
         head = f"{'segment':<9} {'v range [deg/s]':<17}" + "".join(f"{c + ' [' + UNITS[c] + ']':>26}" for c in cols)
         head += f"{'loss':>11} {'RMS [N*m]':>10} {'evals':>8} {'time [s]':>9}"
         lines = [head, "-" * len(head)]
@@ -416,7 +453,8 @@ def _fit_segment(
     return SegmentFit(
         name=name, kind=kind, branch=branch, v_range=(float(v_range[0]), float(v_range[1])), x=np.asarray(fit.x),
         loss=fit.loss, rms=float(np.sqrt(np.mean(resid**2))), n_points=len(d), evaluations=fit.evaluations,
-        wall_time=fit.wall_time, compile_time=fit.compile_time, seed_losses=fit.seed_losses, uncertainty=unc, velocity=d.velocity, residual=resid,
+        wall_time=fit.wall_time, compile_time=fit.compile_time, seed_losses=fit.seed_losses, uncertainty=unc,
+        velocity=d.velocity, residual=resid, steps=fit.steps, bounds=(np.asarray(lo), np.asarray(hi)),
     )
 
 

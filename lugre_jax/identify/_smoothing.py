@@ -138,7 +138,7 @@ class SumOfSines:
         v = np.asarray(v, dtype=np.float64)
         return np.sin(v[..., None] * self.b + self.c) @ self.a
 
-    def as_dict(self) -> dict:
+    def to_json(self) -> dict:
         return dict(a=self.a.tolist(), b=self.b.tolist(), c=self.c.tolist(), v_range=[self.v_lo, self.v_hi], rms=self.rms)
 
 

@@ -74,7 +74,7 @@ class Uncertainty:
     poorly_determined: tuple[str, ...]
     statement: str
 
-    def as_dict(self) -> dict:
+    def to_json(self) -> dict:
         return dict(
             standard_errors=dict(zip(self.names, self.se.tolist())),
             relative_standard_errors={n: _rel(s, x) for n, s, x in zip(self.names, self.se, self.x)},

@@ -1,14 +1,19 @@
-"""Shared driver of the per-figure experiment folders (experiments/figNN_*/run.py and plot.py): one
-scenario of :mod:`lugre_jax.reproduce` with raw results written to ``--out`` and a plot read back
-from them. Li et al., Electronics 2020, 9, 284."""
+"""What the experiment folders share (an application of lugre_jax, not part of the library): the
+argument handling and results folder of every ``experiments/NAME/run.py`` and ``plot.py``, and the
+driver of the folders that run one scenario of :mod:`lugre_jax.reproduce` (Li et al., Electronics
+2020, 9, 284). Uses the public API only (``tests/test_public_api.py`` checks it).
+
+A script in ``experiments/NAME/`` imports it with::
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for _common
+    from _common import run_main
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
 from pathlib import Path
-
-from ..io import write_json
 
 
 def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
@@ -21,13 +26,11 @@ def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
                          "setup.json of a `lugre-jax reproduce` run to share one identification across folders")
     ap.add_argument("--quick", action="store_true", help="reduced optimiser settings")
     a = ap.parse_args(argv)
-    from ..xla import configure
+    import lugre_jax
 
-    configure()
-    from ._plots import save_traces_npz
-    from ._run import SCENARIOS, seed_study
-    from ._setup import build_setup
-    from ._table2 import excitation_design, table2
+    lugre_jax.configure()  # float64 and the XLA options, before any computation
+    from lugre_jax.io import write_json
+    from lugre_jax.reproduce import SCENARIOS, build_setup, excitation_design, save_traces_npz, seed_study, table2
 
     out = Path(a.out)
     cache = Path(a.setup_cache) if a.setup_cache else out / "setup.json"
@@ -74,7 +77,7 @@ def results_for_plot(doc: str, default: Path, needs: tuple[str, ...], argv=None)
 def plot_main(name: str, default_out: Path, argv=None) -> None:
     """``plot.py``: read the raw results of ``name`` from ``--results`` and write ``NAME.png`` there."""
     out = results_for_plot(f"plot {name} from its raw results", default_out, (f"{name}.json",), argv)
-    from ._plots import PLOTTERS, load_traces_npz, plot_design, plot_table2
+    from lugre_jax.reproduce import PLOTTERS, load_traces_npz, plot_design, plot_table2
 
     if name == "design":
         plot_design(json.loads((out / "design.json").read_text()), out / "excitation_design.png")
