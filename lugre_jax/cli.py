@@ -71,18 +71,39 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command. ``argv=None`` means this is the program (console script or ``python -m``):
+    an interrupted run then ends without interpreter shutdown (see ``_cli._signals``)."""
+    from ._cli._signals import EXIT_SIGINT, EXIT_SIGTERM, Terminated, handle_signals, hard_exit
+
+    is_program = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)
     parser, modules = build_parser()
-    args = parser.parse_args(argv)
-    _configure_process(args.no_cache)
-    try:
-        return int(modules[args.command].run(args) or 0)
-    except (ValueError, OSError) as e:
-        print(f"lugre-jax {args.command}: error: {e}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(f"lugre-jax {args.command}: interrupted", file=sys.stderr)
-        return 130
+    code = None
+    with handle_signals():
+        try:
+            args = parser.parse_args(argv)
+            _configure_process(args.no_cache)
+            return int(modules[args.command].run(args) or 0)
+        except (ValueError, OSError) as e:
+            # One line: a message that spans lines (e.g. from a library) is joined.
+            msg = " ".join(str(e).split()) or type(e).__name__
+            print(f"lugre-jax {argv_command(argv)}: error: {msg}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            code = EXIT_SIGINT
+        except Terminated:
+            code = EXIT_SIGTERM
+    # Reached only after an interrupt; every context manager on the way up has cleaned up.
+    print(f"lugre-jax {argv_command(argv)}: interrupted ({'Ctrl-C' if code == EXIT_SIGINT else 'SIGTERM'})",
+          file=sys.stderr)
+    if is_program:
+        hard_exit(code)
+    return code
+
+
+def argv_command(argv: list[str]) -> str:
+    """The subcommand named in ``argv`` (for messages raised before or while parsing)."""
+    return next((a for a in argv if a in SUBCOMMANDS), "")
 
 
 if __name__ == "__main__":

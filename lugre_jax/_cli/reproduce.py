@@ -37,12 +37,22 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
+    from ..io import check_folder_replaceable, load_stribeck_csv
+    from ._outputs import check_output_file
+
     only = comma_choices(args.only, CHOICES, "--only") if args.only else None
     if args.seeds is not None and args.seeds < 0:
-        raise ValueError("--seeds must be >= 0")
-    if args.data is not None and not Path(args.data).exists():
-        raise ValueError(f"--data {args.data}: no such file")
-    from ..reproduce._run import run_all
+        raise ValueError(f"--seeds must be >= 0, got {args.seeds}")
+    # Everything the run will read or write is checked before the minutes of work start.
+    try:
+        check_folder_replaceable(args.out)
+    except ValueError as e:
+        raise ValueError(f"--out {e}") from None
+    if args.data is not None:
+        load_stribeck_csv(args.data)
+    if args.setup_cache is not None and not Path(args.setup_cache).is_file():
+        check_output_file(args.setup_cache, "--setup-cache", (".json",))
+    from ..reproduce import run_all
 
     res = run_all(args.out, quick=args.quick, data_path=args.data, only=only, seeds=args.seeds,
                   progress=not args.no_progress, setup_cache=args.setup_cache)

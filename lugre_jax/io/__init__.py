@@ -5,10 +5,17 @@ is atomic (temporary file, then rename).
 """
 
 from ._atomic import (
+    MANIFEST as MANIFEST,
+    atomic_folder as atomic_folder,
     atomic_path as atomic_path,
+    check_folder_replaceable as check_folder_replaceable,
+    csv_size_estimate as csv_size_estimate,
+    deferred_signals as deferred_signals,
+    replace_folder as replace_folder,
     save_figure as save_figure,
     write_csv as write_csv,
     write_json as write_json,
+    write_manifest as write_manifest,
 )
 from ._emps import (
     EMPS_REFERENCE as EMPS_REFERENCE,

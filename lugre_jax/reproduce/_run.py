@@ -8,7 +8,7 @@ from pathlib import Path
 
 import jax
 
-from ..io import write_json
+from ..io import atomic_folder, write_json
 from . import _scenarios as sc
 from ._plots import PLOTTERS, plot_design, plot_table2, save_traces_npz
 from ._report import build_rows, write_report
@@ -46,13 +46,22 @@ def seed_study(setup: Setup, data_path=None, n_seeds: int = 3) -> dict:
 def run_all(out, *, quick: bool = False, data_path=None, only=None, seeds: int | None = None, progress: bool = True,
             setup_cache=None) -> dict:
     """Run the set-up, every scenario, Table 2 and the excitation design; write PNGs, raw results,
-    REPORT.md and report.json under ``out``. Returns ``{"rows": [...], "results": {...}}``."""
+    REPORT.md and report.json under ``out``. Returns ``{"rows": [...], "results": {...}}``.
+
+    The folder is built as a hidden temporary sibling and renamed to ``out`` only when everything is
+    written (its MANIFEST.json last); an error or Ctrl-C leaves ``out`` as it was. ``out`` must be new,
+    empty, or an earlier result (it holds a MANIFEST.json), which is then replaced: reruns are safe."""
+    meta = dict(command="reproduce", quick=quick, only=None if only is None else sorted(only), seeds=seeds)
+    with atomic_folder(out, meta=meta) as tmp:
+        return _run_into(tmp, quick=quick, data_path=data_path, only=only, seeds=seeds, progress=progress,
+                         setup_cache=setup_cache)
+
+
+def _run_into(out: Path, *, quick, data_path, only, seeds, progress, setup_cache) -> dict:
     from tqdm.auto import tqdm
 
     from ._table2 import excitation_design, table2
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     timings: dict = {}
     names = list(SCENARIOS) if only is None else [n for n in SCENARIOS if n in only]
     n_seeds = (0 if quick else 3) if seeds is None else int(seeds)
