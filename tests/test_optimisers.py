@@ -148,6 +148,33 @@ def test_seeds_are_independent_and_reproducible():
     np.testing.assert_allclose(np.asarray(single.history_loss), r.history[2], rtol=1e-12)
 
 
+def test_one_loop_for_objects_and_names_and_the_record(tmp_path):
+    import json
+
+    from lugre_jax.io import write_json
+
+    a = optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_seeds=2, n_particles=10, max_steps=4)
+    b = optimise(PSO(n_particles=10, max_steps=4), shifted_sphere, LO3, HI3, key=KEY, n_seeds=2)
+    np.testing.assert_array_equal(a.history, b.history)
+    assert a.steps == 4 and a.history.shape == (2, 5) and a.n_evals[0] == 10 * 5
+    write_json(tmp_path / "r.json", a.to_json())
+    d = json.loads((tmp_path / "r.json").read_text())
+    assert d["steps"] == 4 and d["settings"]["max_steps"] == 4 and d["method"] == "pso"
+    np.testing.assert_array_equal(d["loss"], a.loss)
+    np.testing.assert_array_equal(d["x"], a.x)
+
+
+def test_evosax_hyperparameters_are_leaves():
+    from lugre_jax.identify import DE
+
+    des = eqx.filter_vmap(lambda F: DE(pop_size=8, max_steps=5, F=F))(jnp.array([0.3, 0.9]))
+    out = eqx.filter_vmap(lambda d: minimise(d, shifted_sphere, (LO3, HI3), KEY))(des)
+    assert out.best_loss.shape == (2,) and float(out.best_loss[0]) != float(out.best_loss[1])
+    # lane i of the sweep is the optimiser built with that F alone
+    one = minimise(DE(pop_size=8, max_steps=5, F=0.9), shifted_sphere, (LO3, HI3), KEY)
+    np.testing.assert_allclose(np.asarray(one.history_loss), np.asarray(out.history_loss[1]), rtol=1e-12)
+
+
 def test_hyperparameters_vmap():
     psos = eqx.filter_vmap(lambda w: PSO(n_particles=20, max_steps=10, w=w))(jnp.array([0.4, 0.62, 0.9]))
     out = eqx.filter_vmap(lambda p: minimise(p, shifted_sphere, (LO3, HI3), KEY))(psos)

@@ -30,16 +30,6 @@ _POPULATION = {"ga": GA, "ga_real": RealGA, "pso": PSO, "cmaes": CMAES, "de": DE
 _LOCAL = {"lm": "lm", "bfgs": "bfgs"}
 
 
-def _json_array(a) -> Any:
-    """Nested lists of Python numbers; non-finite floats become ``None`` (JSON has no inf/NaN)."""
-    a = np.asarray(a)
-    if a.dtype.kind != "f":
-        return a.tolist()
-    out = a.astype(object)
-    out[~np.isfinite(a)] = None
-    return out.tolist()
-
-
 @dataclasses.dataclass(frozen=True)
 class OptimResult:
     """Result of :func:`optimise` for ``n_seeds`` seeds (numpy arrays, seeds first).
@@ -87,17 +77,18 @@ class OptimResult:
         return int(self.history.shape[1] - 1)
 
     def to_json(self) -> dict[str, Any]:
-        """JSON-ready dict (lists and floats; non-finite losses as ``null``): every field above plus
-        ``steps``; ``refine_result`` as names (``successful``, ...) where optimistix ran."""
+        """Plain-Python dict (lists, floats, str) of every field above plus ``steps``;
+        ``refine_result`` as names (``successful``, ...) where optimistix ran. Write it with
+        :func:`lugre_jax.io.write_json`, which turns a non-finite loss into ``"inf"``/``null``."""
         codes = None
         if self.refine_result is not None:
             codes = (self.refine_result.tolist() if self.method == "scipy_lsq"
                      else [result_name(int(c)) for c in np.ravel(self.refine_result)])
         return dict(
-            method=self.method, steps=self.steps, x=_json_array(self.x), loss=_json_array(self.loss),
-            x_global=_json_array(self.x_global), loss_global=_json_array(self.loss_global),
-            history=_json_array(self.history), evals_history=_json_array(self.evals_history),
-            n_evals=_json_array(self.n_evals),
+            method=self.method, steps=self.steps, x=self.x.tolist(), loss=self.loss.tolist(),
+            x_global=self.x_global.tolist(), loss_global=self.loss_global.tolist(),
+            history=self.history.tolist(), evals_history=self.evals_history.tolist(),
+            n_evals=self.n_evals.tolist(),
             wall_time_s=self.wall_time, compile_time_s=self.compile_time, refine_result=codes,
             settings={k: v for k, v in self.settings.items() if isinstance(v, (str, int, float, bool, dict, type(None)))},
         )

@@ -319,7 +319,7 @@ class SegmentFit:
             evaluations=self.evaluations,
             wall_time_s=self.wall_time,
             compile_time_s=self.compile_time,
-            seed_losses=[float(v) if np.isfinite(v) else None for v in self.seed_losses],
+            seed_losses=self.seed_losses.tolist(),
             **self.uncertainty.to_json(),
         )
 
