@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io._atomic import save_figure
+from ..io import save_figure
 from ._scenarios import BAND, RAMP_WINDOWS
 
 
@@ -172,7 +172,7 @@ SEP = "::"
 
 def save_traces_npz(res: dict, path: Path) -> None:
     """Raw traces of a scenario as a compressed .npz (key ``<group>::<label>::<signal>``; labels may hold '/')."""
-    from ..io._atomic import atomic_path
+    from ..io import atomic_path
 
     flat = {}
 

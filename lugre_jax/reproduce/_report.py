@@ -14,8 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import write_json
-from ..io._atomic import atomic_path
+from ..io import atomic_path, write_json
 
 
 def _f(x, nd=3):
@@ -77,7 +76,7 @@ ENC = 1e-4
 def row_table1(R, S):
     """Static parameters: the GA-PSO piecewise identification used by the compensator vs Table 1 (the
     data were drawn from Table 1 plus noise, so Table 1 is the truth here)."""
-    from ..plant._paper import TABLE1
+    from ..plant import TABLE1
 
     segs = S.static_params.get("GA-PSO piecewise", {}).get("segments")
     if not segs:
