@@ -47,7 +47,7 @@ from ._score import (
 from ._simulate import (
     VIR_MAX as VIR_MAX,
     AbstractStepping as AbstractStepping,
-    ExponentialEuler as ExponentialEuler,
+    ExponentialMidpoint as ExponentialMidpoint,
     RungeKutta as RungeKutta,
     closed_loop as closed_loop,
     default_stepping as default_stepping,

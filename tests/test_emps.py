@@ -1,0 +1,261 @@
+"""EMPS: the sampled-data loop against scipy, IDIM-LS on synthetic data with known parameters, the
+strict .mat reader on malformed files, and the validation path (pulses_N) end to end on a synthetic
+run. Real-data checks (the published IDIM-LS) run only when ../shared/data is present."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.io
+from scipy.integrate import solve_ivp
+
+from lugre_jax.emps import (
+    CoulombViscous,
+    ExponentialMidpoint,
+    LuGre,
+    RungeKutta,
+    RunArrays,
+    benchmark_score,
+    closed_loop,
+    closed_loop_score,
+    idim_ls,
+    read_emps_mat,
+)
+
+GTAU, KP, KV, T = 35.15065188, 160.18, 243.45, 1e-3
+DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"
+
+
+def _reference(n, seed=0):
+    """A smooth back-and-forth reference (m) with plateaus and reversals, like the EMPS excitation."""
+    t = np.arange(n) * T
+    f2 = 1.3 + 0.1 * seed  # starts at rest (no step into saturation), reverses several times
+    q = 0.05 * (1 - np.cos(2 * np.pi * 0.35 * t)) + 0.01 * (1 - np.cos(2 * np.pi * f2 * t))
+    return t, q
+
+
+def _scipy_closed_loop(params, qg, f_ext, x0, hist, v_eps):
+    """Independent reference: the same ZOH controller, each sample integrated by DOP853 at tight
+    tolerance, friction written out by hand (Coulomb + viscous + offset, tanh sign)."""
+    M, Fv, Fc, off = params
+    x = np.array(x0[:2], float)
+    q1, q2 = hist
+    qs, vs, virs = [], [], []
+    for k in range(len(qg)):
+        qk = x[0]
+        vir = np.clip(KP * KV * (qg[k] - qk) - KV * (qk - q2) / (2 * T), -10, 10)
+        u = GTAU * vir + f_ext[k]
+
+        def rhs(t, y):
+            return [y[1], (u - Fv * y[1] - Fc * np.tanh(y[1] / v_eps) - off) / M]
+
+        qs.append(qk), vs.append(x[1]), virs.append(vir)
+        x = solve_ivp(rhs, (0, T), x, method="DOP853", rtol=1e-12, atol=1e-15).y[:, -1]
+        q1, q2 = qk, q1
+    return np.array(qs), np.array(vs), np.array(virs)
+
+
+def test_closed_loop_matches_scipy():
+    from lugre_jax.emps._models import V_EPS
+
+    _, qg = _reference(400)
+    f_ext = np.where((np.arange(400) > 150) & (np.arange(400) < 170), 40.0, 0.0)  # a pulse
+    params = (95.1089, 203.5034, 20.3935, -3.1648)
+    x0, hist = (0.0, 0.0, 0.0), (0.0, 0.0)
+    q_ref, v_ref, vir_ref = _scipy_closed_loop(params, qg, f_ext, x0, hist, V_EPS)
+    fine = RungeKutta(substeps=20)  # Tsit5, 50 us substeps
+    q, v, vir, ok = closed_loop(CoulombViscous(*params), qg, f_ext, jnp.array(x0), hist,
+                                gtau=GTAU, kp=KP, kv=KV, T=T, stepping=fine)
+    assert bool(ok)
+    # The tanh(v/1e-4) Coulomb term is stiff while |v| < ~1e-4 m/s (a reversal crosses it in
+    # ~0.2 ms): fixed substeps converge there at their order; 20 substeps reach ~1e-9 m of a
+    # ~20 mm motion (measured 1.2e-9).
+    np.testing.assert_allclose(np.asarray(q), q_ref, rtol=0, atol=5e-9)
+    np.testing.assert_allclose(np.asarray(v), v_ref, rtol=0, atol=2e-7)
+    np.testing.assert_allclose(np.asarray(vir), vir_ref, rtol=0, atol=2e-4)
+    # the default stepping (Tsit5, 10 substeps; measured 3.3e-8 m) and the first-order
+    # exponential-midpoint scheme (used for LuGre; second order, measured 1.9e-7 m), each within
+    # its own order's tolerance
+    q_d, _, _, _ = closed_loop(CoulombViscous(*params), qg, f_ext, jnp.array(x0), hist, gtau=GTAU,
+                               kp=KP, kv=KV, T=T)
+    np.testing.assert_allclose(np.asarray(q_d), q_ref, rtol=0, atol=1e-7)
+    q_e, _, _, _ = closed_loop(CoulombViscous(*params), qg, f_ext, jnp.array(x0), hist, gtau=GTAU,
+                               kp=KP, kv=KV, T=T, stepping=ExponentialMidpoint(substeps=10))
+    np.testing.assert_allclose(np.asarray(q_e), q_ref, rtol=0, atol=1e-6)
+    assert np.max(np.abs(np.asarray(q_e) - q_ref)) > np.max(np.abs(np.asarray(q) - q_ref))
+
+
+def test_lugre_exponential_scheme_matches_stiff_scipy():
+    """LuGre with stiff bristles (sigma0 = 2e6 N/m) against scipy's Radau on the same ZOH loop."""
+    m = LuGre(95.0, 200.0, 20.0, 25.0, 0.005, 2e6, 1e3, -3.0)
+    _, qg = _reference(200, seed=1)
+    x = np.zeros(3)
+    q1 = q2 = 0.0
+    q_ref, vir_ref = [], []
+    for k in range(200):
+        qk = x[0]
+        vir = np.clip(KP * KV * (qg[k] - qk) - KV * (qk - q2) / (2 * T), -10, 10)
+        u = GTAU * vir
+
+        def rhs(t, y):
+            v, z = y[1], y[2]
+            g = 20.0 + 5.0 * np.exp(-(v / 0.005) ** 2)
+            dz = v - 2e6 * abs(v) * z / g
+            return [v, (u - (2e6 * z + 1e3 * dz + 200.0 * v - 3.0)) / 95.0, dz]
+
+        q_ref.append(qk), vir_ref.append(vir)
+        x = solve_ivp(rhs, (0, T), x, method="Radau", rtol=1e-10, atol=1e-13).y[:, -1]
+        q1, q2 = qk, q1
+    q, _, vir, ok = closed_loop(m, qg, np.zeros(200), jnp.zeros(3), (0.0, 0.0), gtau=GTAU, kp=KP, kv=KV,
+                                T=T)
+    assert bool(ok)
+    # default ExponentialMidpoint, 10 substeps (measured: 3.0e-9 m of a ~6.5 mm motion, voltage
+    # 1.4e-5 of its peak; 20 substeps 4e-10 m)
+    np.testing.assert_allclose(np.asarray(q), q_ref, rtol=0, atol=1e-8)
+    assert np.max(np.abs(np.asarray(vir) - vir_ref)) < 1e-4 * np.max(np.abs(vir_ref))
+
+
+def _write_run(path, n=3000, model=None, pulses=False, seed=0, noise=0.0):
+    """A synthetic EMPS run made by the closed loop itself (optionally with a known pulse force)."""
+    model = model or CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
+    t, qg = _reference(n, seed)
+    f = np.zeros(n)
+    if pulses:
+        for c in range(n // 4, n, n // 4):
+            f[c:c + 30] = 60.0 if (c // (n // 4)) % 2 else -60.0
+    q, _, vir, ok = closed_loop(model, qg, f, jnp.zeros(3), (0.0, 0.0), gtau=GTAU, kp=KP, kv=KV, T=T)
+    assert bool(ok)
+    rng = np.random.default_rng(seed)
+    d = dict(t=t[:, None], qm=np.asarray(q)[:, None] + noise * rng.standard_normal((n, 1)),
+             qg=qg[:, None], vir=np.asarray(vir)[:, None], gtau=np.array([[GTAU]]),
+             kp=np.array([[KP]]), kv=np.array([[KV]]))
+    if pulses:
+        d["pulses_N"] = f[:, None]
+    scipy.io.savemat(path, d)
+    return path
+
+
+def test_idim_ls_recovers_known_parameters(tmp_path):
+    """IDIM-LS on an analytic trajectory whose force is exactly the benchmark's model."""
+    n = 20000
+    t = np.arange(n) * T
+    w = 2 * np.pi * 0.4
+    q = 0.1 * (1 - np.cos(w * t)) + 0.004 * np.sin(5 * w * t)
+    dq = 0.1 * w * np.sin(w * t) + 0.02 * w * np.cos(5 * w * t)
+    ddq = 0.1 * w * w * np.cos(w * t) - 0.1 * w * w * np.sin(5 * w * t)
+    truth = {"M": 95.0, "Fv": 200.0, "Fc": 20.0, "offset": -3.0}
+    force = truth["M"] * ddq + truth["Fv"] * dq + truth["Fc"] * np.sign(dq) + truth["offset"]
+    p = tmp_path / "idim.mat"
+    scipy.io.savemat(p, dict(t=t[:, None], qm=q[:, None], qg=q[:, None], vir=(force / GTAU)[:, None],
+                             gtau=np.array([[GTAU]]), kp=np.array([[KP]]), kv=np.array([[KV]])))
+    r = idim_ls(read_emps_mat(p))
+    for k, v in truth.items():
+        # the 100 Hz filter and the decimation of sign(dq) smear ~40 reversals: 0.5 % budget
+        assert abs(r.params[k] - v) <= 0.005 * abs(v), (k, r.params[k])
+    assert r.rel_err_pct < 1.0
+
+
+@pytest.mark.skipif(not DATA.exists(), reason="EMPS data not present (../shared/data/emps)")
+def test_idim_ls_reproduces_published():
+    run = read_emps_mat(DATA)
+    sym, asym = idim_ls(run), idim_ls(run, asymmetric=True)
+    pub = {"M": 95.1089, "Fv": 203.5034, "Fc": 20.3935, "offset": -3.1648}
+    for k, v in pub.items():
+        assert abs(sym.params[k] - v) <= 1e-3 * abs(v), k  # the issue asks 1 %; we get 0.03 %
+    assert abs(sym.rel_err_pct - 4.08) < 0.01
+    pub = {"Fv+": 166.71, "Fc+": 20.14, "Fv-": 240.42, "Fc-": 20.63}
+    for k, v in pub.items():
+        assert abs(asym.params[k] - v) <= 1e-3 * abs(v), k
+    assert abs(asym.rel_err_pct - 3.11) < 0.01
+
+
+GOOD = dict(t=np.arange(200.0)[:, None] * T, qm=np.zeros((200, 1)), qg=np.zeros((200, 1)),
+            vir=np.zeros((200, 1)), gtau=np.array([[GTAU]]), kp=np.array([[KP]]), kv=np.array([[KV]]))
+
+
+@pytest.mark.parametrize("mutate, expect", [
+    (lambda d: d.pop("kv"), "key 'kv' missing"),
+    (lambda d: d.pop("qm"), "key 'qm' missing"),
+    (lambda d: d.update(qm=np.zeros((200, 3))), "key 'qm' must be a real column vector"),
+    (lambda d: d.update(vir=np.zeros((150, 1))), "key 'vir' has 150 samples, expected 200"),
+    (lambda d: d.update(gtau=np.array([[1.0, 2.0]])), "key 'gtau' must be a real scalar"),
+    (lambda d: d.update(pulses_N=np.zeros((10, 1))), "key 'pulses_N' has 10 samples"),
+    (lambda d: d.update(t=np.zeros((200, 1))), "key 't' must increase strictly"),
+    (lambda d: d.update(qg=np.full((200, 1), np.nan)), "key 'qg' has 200 non-finite values"),
+])
+def test_reader_rejects_malformed(tmp_path, mutate, expect):
+    d = {k: v.copy() for k, v in GOOD.items()}
+    mutate(d)
+    p = tmp_path / "bad.mat"
+    scipy.io.savemat(p, d)
+    with pytest.raises(ValueError) as e:
+        read_emps_mat(p)
+    msg = str(e.value)
+    assert expect in msg and str(p) in msg and "\n" not in msg
+
+
+def _cli(*args):
+    # a fresh process: lugre_jax.cli.main sets the XLA options, which must precede any JAX work
+    return subprocess.run([sys.executable, "-m", "lugre_jax.cli", "--no-cache", "emps", *args],
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_reader_rejects_non_mat_bytes_and_missing(tmp_path):
+    p = tmp_path / "x.mat"
+    p.write_bytes(b"time,qm\n0,1\n")
+    with pytest.raises(ValueError, match="cannot read as a MATLAB .mat file"):
+        read_emps_mat(p)
+    with pytest.raises(ValueError, match="EMPS file not found"):
+        read_emps_mat(tmp_path / "absent.mat")
+    # the CLI: one line naming the file and the key, exit code 2, nothing written
+    d = {k: v for k, v in GOOD.items() if k != "vir"}
+    scipy.io.savemat(tmp_path / "foreign.mat", d)
+    out = tmp_path / "out"
+    r = _cli("--data", str(tmp_path / "foreign.mat"), "--out", str(out), "--quiet")
+    err = r.stderr.strip()
+    assert r.returncode == 2 and len(err.splitlines()) == 1, err
+    assert "key 'vir' missing" in err and "foreign.mat" in err
+    assert not out.exists()
+
+
+def test_pulses_are_a_known_input(tmp_path):
+    """On a synthetic validation-like run made by the true model with pulses_N, the true model
+    reproduces it exactly only when the pulses are fed in (closed loop and benchmark protocol)."""
+    truth = CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
+    run = read_emps_mat(_write_run(tmp_path / "val.mat", n=2000, model=truth, pulses=True))
+    assert run.has_pulses and np.any(run.pulses_N != 0)
+    data = RunArrays(run)
+    with_p = closed_loop_score(truth, data)
+    without = closed_loop_score(truth, data, use_pulses=False)
+    assert with_p.force_pct < 0.01 and without.force_pct > 10 * with_p.force_pct
+    b_with, b_without = benchmark_score(truth, data), benchmark_score(truth, data, use_pulses=False)
+    # open loop, the state set from 20 samples of an accelerating start drifts even for the true
+    # model (measured 1.0 mm with the pulses, 4.5 mm without)
+    assert b_with.r2 > 0.99 and b_without.rmse_mm > 2 * b_with.rmse_mm
+
+
+def test_cli_validate_path_end_to_end(tmp_path):
+    """``lugre-jax emps --data EST --validate VAL`` on synthetic runs: outputs as the issue lists."""
+    est = _write_run(tmp_path / "est.mat", n=3000, seed=2, noise=2e-8)
+    val = _write_run(tmp_path / "val.mat", n=2000, pulses=True, seed=3, noise=2e-8)
+    out = tmp_path / "out"
+    r = _cli("--data", str(est), "--validate", str(val), "--out", str(out), "--quiet",
+             "--models", "coulomb_viscous", "--max-steps", "3", "--segments", "4", "--segment-len", "200")
+    assert r.returncode == 0, r.stderr
+    j = json.loads((out / "RESULT.json").read_text())
+    runs = j["models"]["coulomb_viscous"]["runs"]
+    assert set(runs) >= {"estimation", "held_out", "validation", "validation_without_pulses"}
+    assert j["validation_has_pulses"] and j["idim"]["symmetric"]["params"].keys() >= {"M", "Fv", "Fc", "offset"}
+    # the model that made the data (starting point = truth) stays accurate on the validation run
+    assert runs["validation"]["closed_loop"]["force_pct"] < 1.0
+    head = (out / "validation_closed_loop.csv").read_text().splitlines()[0]
+    assert head == "time_s,qm_m,qm_sim_m,force_n,force_sim_n"
+    assert (out / "validation_benchmark.csv").read_text().startswith("time_s,qm_m,qm_sim_m\n")
+    for png in ("measured_vs_simulated.png", "residuals.png"):
+        assert (out / png).stat().st_size > 1000
