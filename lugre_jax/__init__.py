@@ -11,16 +11,23 @@ Subpackages: ``friction``, ``plant``, ``control``, ``identify``, ``dynamic``, ``
 
 from .xla import configure as configure
 from ._params import bounds_of as bounds_of, names_of as names_of, units_of as units_of
-from ._simulate import (
+from ._simulation import (
     RESULT_NONFINITE as RESULT_NONFINITE,
     RESULT_OK as RESULT_OK,
     RESULT_SOLVER_FAILED as RESULT_SOLVER_FAILED,
     STATE_NAMES as STATE_NAMES,
+    AbstractStepping as AbstractStepping,
+    Adaptive as Adaptive,
+    FixedStep as FixedStep,
+    Lanes as Lanes,
     Sample as Sample,
     SampleMean as SampleMean,
+    SaveAt as SaveAt,
     Solution as Solution,
+    SteppingCheck as SteppingCheck,
     System as System,
     broadcast_system as broadcast_system,
+    check_stepping as check_stepping,
     map_lanes as map_lanes,
     simulate as simulate,
     stack_systems as stack_systems,
@@ -35,6 +42,7 @@ from .control import (
     PositionSine as PositionSine,
     VelocityPID as VelocityPID,
     VelocityRamp as VelocityRamp,
+    VelocityTable as VelocityTable,
     VelocitySteps as VelocitySteps,
 )
 from .friction import (

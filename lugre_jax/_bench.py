@@ -36,7 +36,26 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ._params import from_vector, to_vector
-from ._simulate import System, _evals_per_step, _rates, _split, broadcast_system, map_lanes, simulate, vector_field
+import diffrax
+
+from . import simulate as _simulate_api
+from ._simulation import FixedStep, Lanes, SaveAt, System, broadcast_system, map_lanes, vector_field
+from ._simulation._system import rates as _rates, split as _split
+
+_SOLVERS = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
+            "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
+
+
+def _evals_per_step(solver: str) -> int:
+    return FixedStep(_SOLVERS[solver]()).evals_per_step
+
+
+def simulate(system, duration, hz, *, solver="tsit5", dt=2.5e-3, batched=False, shard=None, chunk_size=None,
+             reduce=None, sample_mean=None):
+    """The benchmark's configurations (solver name, dt) as the simulator's objects."""
+    saveat = SaveAt(fn=reduce, mean=sample_mean)
+    return _simulate_api(system, duration, hz, stepping=FixedStep(_SOLVERS[solver](), dt=dt), saveat=saveat,
+                         batched=batched, lanes=Lanes(chunk_size=chunk_size, shard=shard))
 from .control import VelocityPID, VelocitySteps
 from .friction import LuGre
 from .plant import PAPER_J, Joint, paper_friction, paper_segment
@@ -344,8 +363,7 @@ import os, sys, time, resource, json
 os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=%d"
 import lugre_jax; lugre_jax.configure()
 import jax, numpy as np
-from lugre_jax._bench import bench_system, lane_factors, _tracking_errors, DURATION, HZ
-from lugre_jax import simulate
+from lugre_jax._bench import bench_system, lane_factors, _tracking_errors, simulate, DURATION, HZ
 n, chunk = %d, %r
 FAST = dict(solver=%r, dt=%r)
 s = bench_system(lane_factors(n, seed=7))

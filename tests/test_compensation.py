@@ -29,8 +29,8 @@ def step_runs(v, duration):
     pid = lj.VelocityPID(kp=KP, ki=KI)
     ctrls = [pid] + [lj.LuGreCompensated(inner=pid, observer=observer(s), k_obs=0.1, J_ff=J) for s in (IDENTIFIED, POOR)]
     systems = [lj.System(friction=plant, joint=lj.Joint(J=J), controller=c, reference=lj.VelocitySteps([v])) for c in ctrls]
-    sols = [lj.simulate(systems[0], duration, 20.0)]
-    sols.append(lj.simulate(lj.stack_systems(systems[1:]), duration, 20.0, batched=True))
+    sols = [lj.simulate(systems[0], duration, 20.0, stepping=lj.FixedStep())]
+    sols.append(lj.simulate(lj.stack_systems(systems[1:]), duration, 20.0, batched=True, stepping=lj.FixedStep()))
     assert int(sols[0].result) == 0 and np.all(np.asarray(sols[1].result) == 0)
     ts = np.asarray(sols[0].ts)
     th = np.concatenate([np.asarray(sols[0].theta)[None], np.asarray(sols[1].theta)])

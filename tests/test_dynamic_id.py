@@ -79,7 +79,7 @@ def test_time_series_fit_recovers_sigma0_sigma1_within_3se():
     def build(p):  # 0.5 N*m at 3 Hz: near the pre-sliding resonance sqrt(sigma0/J) ~ 4.7 Hz
         return torque_sine_system(with_dynamics(seg, p[0], p[1]), J, 0.5, 3.0)
 
-    th = np.asarray(lj.simulate(build(truth), dur, hz).theta)
+    th = np.asarray(lj.simulate(build(truth), dur, hz, stepping=lj.FixedStep()).theta)
     meas = th + noise * np.asarray(jax.random.normal(jax.random.key(7), th.shape))
     fit = fit_dynamic(build, meas, [60.0, 1.0], duration_s=dur, sample_hz=hz, noise_deg=noise, max_steps=40)
     assert fit.converged

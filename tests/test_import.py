@@ -51,10 +51,10 @@ def test_time_loop_compiles_to_one_kernel():
     # kernel (a call tagged xla_cpu_small_call); without it, the loop is dispatched op by op.
     import os
 
-    code = ("import lugre_jax as lj, jax\nlj.configure()\n"
+    code = ("import lugre_jax as lj, jax, diffrax\nlj.configure()\n"
             "s = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),\n"
             "              controller=lj.VelocityPID(kp=8.0, ki=60.0), reference=lj.VelocitySteps([0.02]))\n"
-            "f = jax.jit(lambda s: lj.simulate(s, 2.0, 100.0, dt=0.02, solver='bosh3').theta)\n"
+            "f = jax.jit(lambda s: lj.simulate(s, 2.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02)).theta)\n"
             "print('xla_cpu_small_call' in f.lower(s).compile().as_text())\n")
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)

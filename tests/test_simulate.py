@@ -9,7 +9,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import lugre_jax as lj
-from lugre_jax._simulate import vector_field
+import diffrax
+
+from lugre_jax import vector_field
 
 
 def _scipy_reference(system, duration, hz, method="LSODA"):
@@ -57,7 +59,7 @@ def test_sine_tracking_matches_lsoda():
                        controller=lj.PositionPID(kpp=20.0, kp=8.0, ki=60.0),
                        reference=lj.PositionSine(3.0, 0.4))
     ref = _scipy_reference(system, 5.0, 200.0)
-    sol = lj.simulate(system, 5.0, 200.0, dt=1e-3)
+    sol = lj.simulate(system, 5.0, 200.0, stepping=lj.FixedStep(dt=1e-3))
     # Stated agreement: 1e-5 deg (the start, where v_ref jumps to A*w, dominates: ~2e-6 measured).
     np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-5, rtol=0)
     np.testing.assert_allclose(sol.omega, ref[:, 1], atol=5e-4, rtol=0)  # 7e-5 of the 7.5 deg/s amplitude
@@ -70,14 +72,14 @@ def test_motor_inductance_adaptive_matches_radau():
                        controller=lj.VelocityPID(kp=8.0, ki=60.0),
                        reference=lj.VelocitySteps([0.05]), actuator=lj.DCMotor())
     ref = _scipy_reference(system, 2.0, 100.0, method="Radau")
-    sol = lj.simulate(system, 2.0, 100.0, method="adaptive", rtol=1e-9, atol=1e-11)
+    sol = lj.simulate(system, 2.0, 100.0, stepping=lj.Adaptive(rtol=1e-9, atol=1e-11))
     assert int(sol.result) == lj.RESULT_OK
     np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-7, rtol=0)
     np.testing.assert_allclose(sol.omega, ref[:, 1], atol=1e-6, rtol=0)
     np.testing.assert_allclose(sol.ys[:, 3], ref[:, 3], atol=1e-6, rtol=0)  # current [A]
     # and the eq. (8) simplification (L neglected) stays close: the motor is fast
     simple = eqx.tree_at(lambda s: s.actuator, system, lj.DCMotor(neglect_inductance=True))
-    sol8 = lj.simulate(simple, 2.0, 100.0, method="adaptive", rtol=1e-9, atol=1e-11)
+    sol8 = lj.simulate(simple, 2.0, 100.0, stepping=lj.Adaptive(rtol=1e-9, atol=1e-11))
     assert float(jnp.abs(sol8.theta - sol.theta).max()) < 1e-4
 
 
@@ -108,7 +110,7 @@ def test_presliding_displacement_is_dF_over_sigma0():
     dF = 0.05  # N*m, far below Fs = 6.48
     system = lj.System(friction=m, joint=lj.Joint(J=0.128), controller=lj.OpenLoop(bias=dF),
                        reference=lj.VelocitySteps([0.0]))
-    sol = lj.simulate(system, 5.0, 100.0, method="adaptive")
+    sol = lj.simulate(system, 5.0, 100.0, stepping=lj.Adaptive())
     theta_end = float(sol.theta[-1])
     s0, g0 = float(m.sigma0), float(m.Fs)
     # exact for the LuGre bristle at rest: theta = -(g/sigma0) ln(1 - dF/g)
@@ -122,7 +124,8 @@ def test_gradients_match_central_differences():
 
     def final_theta(p):
         f = lj.LuGre(Fc=p[0], Fs=p[1], vs=p[2], sigma2=p[3], sigma0=p[4], sigma1=p[5])
-        return lj.simulate(eqx.tree_at(lambda s: s.friction, base, f), 5.0, 20.0).theta[-1]
+        return lj.simulate(eqx.tree_at(lambda s: s.friction, base, f), 5.0, 20.0,
+                           stepping=lj.FixedStep()).theta[-1]
 
     p0 = jnp.asarray(lj._params.to_vector(lj.paper_segment(1)))
     jac = jax.jacfwd(final_theta)(p0)
@@ -137,14 +140,32 @@ def test_gradients_match_central_differences():
     np.testing.assert_allclose(jrev, jac, rtol=1e-10, atol=1e-14)
 
 
+def test_adaptive_default_differentiates_in_both_modes():
+    # The default (adaptive) solve: reverse mode through diffrax's checkpointed adjoint, forward
+    # mode with ForwardMode(); both against central differences (stated rtol 1e-4: the adaptive
+    # step sequence depends on the parameters, so differences see its rtol-sized noise).
+    base = _pi_system(0.02, friction=lj.paper_segment(1))
+    p0 = jnp.asarray(float(base.friction.sigma1))
+
+    def final_theta(s1, stepping=None):
+        s = eqx.tree_at(lambda s: s.friction.sigma1, base, s1)
+        return lj.simulate(s, 2.0, 20.0, stepping=stepping).theta[-1]
+
+    rev = jax.grad(final_theta)(p0)
+    fwd = jax.jacfwd(lambda s1: final_theta(s1, lj.Adaptive(adjoint=diffrax.ForwardMode())))(p0)
+    h = 1e-4 * float(p0)
+    fd = (final_theta(p0 + h) - final_theta(p0 - h)) / (2 * h)
+    np.testing.assert_allclose([rev, fwd], [fd, fd], rtol=1e-4)
+
+
 def test_batched_equals_single_and_failed_lane_is_flagged():
     base = _pi_system(0.02)
     Js = jnp.array([0.128, 0.2, 1e-6])  # the last is far too light for a 2.5 ms step: blows up
     batch = eqx.tree_at(lambda s: s.joint.J, lj.broadcast_system(base, 3), Js)
-    sol = lj.simulate(batch, 5.0, 100.0, batched=True, chunk_size=2)
+    sol = lj.simulate(batch, 5.0, 100.0, batched=True, stepping=lj.FixedStep(), lanes=lj.Lanes(chunk_size=2))
     assert sol.theta.shape == (3, 501)
     np.testing.assert_array_equal(np.asarray(sol.result), [0, 0, lj.RESULT_NONFINITE])
-    one = lj.simulate(eqx.tree_at(lambda s: s.joint.J, base, jnp.asarray(0.2)), 5.0, 100.0)
+    one = lj.simulate(eqx.tree_at(lambda s: s.joint.J, base, jnp.asarray(0.2)), 5.0, 100.0, stepping=lj.FixedStep())
     np.testing.assert_allclose(sol.theta[1], one.theta, rtol=1e-12, atol=1e-14)
     loss = lj.trajectory_loss(sol, lambda s: jnp.nanmean((s.theta - s.theta_ref) ** 2, axis=-1))
     assert np.isfinite(loss[:2]).all() and loss[2] == np.inf
@@ -155,15 +176,15 @@ def test_default_chunking_pads_and_matches_one_chunk():
     base = _pi_system(0.02)
     Js = jnp.linspace(0.1, 0.3, 451)
     batch = eqx.tree_at(lambda s: s.joint.J, lj.broadcast_system(base, 451), Js)
-    auto = lj.simulate(batch, 1.0, 100.0, batched=True, shard=False, solver="heun", dt=1e-2)
-    whole = lj.simulate(batch, 1.0, 100.0, batched=True, shard=False, solver="heun", dt=1e-2, chunk_size=451)
+    auto = lj.simulate(batch, 1.0, 100.0, batched=True, lanes=lj.Lanes(shard=False), stepping=lj.FixedStep(diffrax.Heun(), dt=1e-2))
+    whole = lj.simulate(batch, 1.0, 100.0, batched=True, stepping=lj.FixedStep(diffrax.Heun(), dt=1e-2), lanes=lj.Lanes(chunk_size=451, shard=False))
     assert auto.theta.shape == (451, 101)
     np.testing.assert_array_equal(np.asarray(auto.theta), np.asarray(whole.theta))
     assert float(jnp.max(jnp.abs(auto.theta[0] - auto.theta[-1]))) > 0  # lanes really differ
 
 
 def test_adaptive_max_steps_failure_is_a_result_code():
-    sol = lj.simulate(_pi_system(0.02), 5.0, 10.0, method="adaptive", max_steps=10)
+    sol = lj.simulate(_pi_system(0.02), 5.0, 10.0, stepping=lj.Adaptive(max_steps=10))
     assert int(sol.result) == lj.RESULT_SOLVER_FAILED
 
 
@@ -176,8 +197,10 @@ def test_nonpositive_inertia_is_a_traced_error():
 def test_bad_static_input_raises_valueerror():
     with pytest.raises(ValueError, match="whole number of samples"):
         lj.simulate(_pi_system(0.02), 1.005, 100.0)
-    with pytest.raises(ValueError, match="method"):
-        lj.simulate(_pi_system(0.02), 1.0, 100.0, method="rk45")
+    with pytest.raises(ValueError, match="stepping must be"):
+        lj.simulate(_pi_system(0.02), 1.0, 100.0, stepping="rk45")
+    with pytest.raises(ValueError, match="explicit Runge-Kutta"):
+        lj.FixedStep(diffrax.Kvaerno5())
     with pytest.raises(ValueError, match="batch axis"):
         lj.simulate(_pi_system(0.02), 1.0, 100.0, batched=True)
 
@@ -192,7 +215,7 @@ def test_unread_trajectories_are_not_stored():
 
     def loss(s0):
         s = eqx.tree_at(lambda s: s.friction.sigma0, base, s0)
-        return jnp.mean(lj.simulate(s, 2.0, 100.0, dt=1e-2, solver="heun").theta ** 2)
+        return jnp.mean(lj.simulate(s, 2.0, 100.0, stepping=lj.FixedStep(diffrax.Heun(), dt=1e-2)).theta ** 2)
 
     s0 = jnp.asarray(base.friction.sigma0)
     for fn in (loss, jax.jacfwd(loss)):
@@ -201,7 +224,7 @@ def test_unread_trajectories_are_not_stored():
         assert f"f64[{n},8]" not in hlo  # ... the stacked rows (or their tangents) are not
     # sanity of the premise: asking for every state does store the (n, 8) trajectory
     hlo = jax.jit(lambda s0: lj.simulate(eqx.tree_at(lambda s: s.friction.sigma0, base, s0), 2.0, 100.0,
-                                         dt=1e-2, solver="heun").ys).lower(s0).compile().as_text()
+                                         stepping=lj.FixedStep(diffrax.Heun(), dt=1e-2)).ys).lower(s0).compile().as_text()
     assert f"f64[{n},8]" in hlo
 
 
@@ -211,20 +234,19 @@ def test_stage_inputs_stored_once_changes_only_rounding(monkeypatch):
     # stick-slip run, batched, with and without it, agrees to rounding (stated: rtol 1e-10; measured
     # 6e-14, XLA contracts fused and stored expressions into multiply-adds differently), and a
     # blown-up lane is still flagged.
-    from lugre_jax import _simulate
+    from lugre_jax._simulation import _fixed, _simulate
 
     base = _pi_system(0.02)
     batch = eqx.tree_at(lambda s: s.joint.J, lj.broadcast_system(base, 3), jnp.array([0.128, 0.2, 1e-6]))
     dyn, static = eqx.partition(batch, eqx.is_array)
 
     def run():  # a fresh trace each call, so the monkeypatched helper is the one compiled
-        one = lambda d: _simulate._solve_one(eqx.combine(d, static), n=1001, sample_hz=100.0,  # noqa: E731
-                                             method="fixed", dt=0.02, solver="bosh3", rtol=0.0,
-                                             atol=0.0, max_steps=0)
+        one = lambda d: _simulate._solve_one(eqx.combine(d, static), 1001, 100.0,  # noqa: E731
+                                             lj.FixedStep(diffrax.Bosh3(), dt=0.02), lj.SaveAt())
         return jax.jit(jax.vmap(one))(dyn)
 
     stored = run()
-    monkeypatch.setattr(_simulate, "_stored_once", lambda y, one: y)
+    monkeypatch.setattr(_fixed, "_stored_once", lambda y, one: y)
     fused = run()
     np.testing.assert_allclose(np.asarray(stored.ys[:2]), np.asarray(fused.ys[:2]), rtol=1e-10, atol=1e-15)
     np.testing.assert_array_equal(np.asarray(stored.result), [0, 0, lj.RESULT_NONFINITE])
@@ -237,14 +259,13 @@ def test_pi_controller_integrates_no_derivative_filter():
     # integrated. It must give the same joint motion as a traced kd = 0, which integrates the filter.
     static_kd = _pi_system(0.02)
     traced_kd = eqx.tree_at(lambda s: s.controller.kd, static_kd, jnp.asarray(0.0))
-    a = lj.simulate(static_kd, 5.0, 100.0, dt=0.01, solver="heun")
-    b = lj.simulate(traced_kd, 5.0, 100.0, dt=0.01, solver="heun")
+    a = lj.simulate(static_kd, 5.0, 100.0, stepping=lj.FixedStep(diffrax.Heun(), dt=0.01))
+    b = lj.simulate(traced_kd, 5.0, 100.0, stepping=lj.FixedStep(diffrax.Heun(), dt=0.01))
     np.testing.assert_array_equal(np.asarray(a.ys[:, :3]), np.asarray(b.ys[:, :3]))
     assert float(jnp.max(jnp.abs(a.ys[:, 5]))) == 0.0  # xd stays at its initial value ...
     assert float(jnp.max(jnp.abs(b.ys[:, 5]))) > 0.0  # ... where a traced kd integrates it
     # and a non-zero derivative gain still acts
-    pid = lj.simulate(eqx.tree_at(lambda s: s.controller.kd, static_kd, 0.05), 5.0, 100.0, dt=0.01,
-                      solver="heun")
+    pid = lj.simulate(eqx.tree_at(lambda s: s.controller.kd, static_kd, 0.05), 5.0, 100.0, stepping=lj.FixedStep(diffrax.Heun(), dt=0.01))
     assert float(jnp.max(jnp.abs(pid.theta - a.theta))) > 1e-6
 
 
@@ -253,8 +274,8 @@ def test_long_steps_interpolate_between_samples():
     # interpolated from the step's end values and slopes.
     system = _pi_system(0.02)
     ref = _scipy_reference(system, 20.0, 100.0)
-    long = lj.simulate(system, 20.0, 100.0, dt=0.02, solver="bosh3")
-    at_steps = lj.simulate(system, 20.0, 50.0, dt=0.02, solver="bosh3")
+    long = lj.simulate(system, 20.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02))
+    at_steps = lj.simulate(system, 20.0, 50.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02))
     assert int(long.result) == lj.RESULT_OK
     # the steps themselves are unchanged by interpolating between them
     np.testing.assert_allclose(long.ys[::2], at_steps.ys, rtol=0, atol=1e-12)
@@ -267,7 +288,7 @@ def test_long_steps_interpolate_between_samples():
     assert ends[0] < 3e-3 and ends[1] < 2e-2, ends
     # a step that is neither a divisor nor a multiple of the sample period is refused
     with pytest.raises(ValueError, match="whole multiple"):
-        lj.simulate(system, 1.0, 100.0, dt=0.015)
+        lj.simulate(system, 1.0, 100.0, stepping=lj.FixedStep(dt=0.015))
 
 
 def test_auto_sharding_only_for_enough_work():
@@ -278,20 +299,23 @@ def test_auto_sharding_only_for_enough_work():
     import sys
 
     code = ("import lugre_jax as lj\n"
-            "from lugre_jax import _simulate as S\n"
+            "from lugre_jax._simulation import _lanes as L, _simulate as S, _fixed as F\n"
+            "import diffrax\nlj.configure()\n"
             "s = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),\n"
             "              controller=lj.VelocityPID(kp=8.0, ki=60.0), reference=lj.VelocitySteps([0.02]))\n"
             "for b, shard in ((4, None), (4, True)):\n"
-            "    S._CACHE.clear()\n"
-            "    lj.simulate(lj.broadcast_system(s, b), 1.0, 100.0, batched=True, dt=0.02, solver='bosh3', shard=shard)\n"
-            "    print(next(iter(S._CACHE))[0])\n"
-            "kw = dict(method='fixed', solver='bosh3', dt=0.02, sample_hz=100.0, n=2001)\n"
-            "print(S._rhs_evals(2000, kw) >= S._SHARD_MIN_EVALS, S._rhs_evals(1000, kw) >= S._SHARD_MIN_EVALS)\n"
+            "    L._CACHE.clear()\n"
+            "    lj.simulate(lj.broadcast_system(s, b), 1.0, 100.0, batched=True,\n"
+            "                stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), lanes=lj.Lanes(shard=shard))\n"
+            "    print(next(iter(L._CACHE))[0])\n"
+            "st = lj.FixedStep(diffrax.Bosh3(), dt=0.02)\n"
+            "print(2000 * F.rhs_evals(st, 2001, 100.0) >= S._SHARD_MIN_EVALS,\n"
+            "      1000 * F.rhs_evals(st, 2001, 100.0) >= S._SHARD_MIN_EVALS)\n"
             "import jax.numpy as jnp\n"
             "for b in (127, 128):  # map_lanes splits from two default chunks (128 lanes) on\n"
-            "    S._CACHE.clear()\n"
+            "    L._CACHE.clear()\n"
             "    lj.map_lanes(lambda x: 2 * x, jnp.arange(float(b)))\n"
-            "    print(next(iter(S._CACHE))[0])\n")
+            "    print(next(iter(L._CACHE))[0])\n")
     env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert out.stdout.split() == ["1", "2", "True", "False", "1", "2"], out.stdout + out.stderr
@@ -301,8 +325,9 @@ def _tracking(q):
     return (q.theta - q.theta_ref) ** 2
 
 
-@pytest.mark.parametrize("kw", [dict(solver="heun", dt=0.01), dict(solver="bosh3", dt=0.02),
-                                dict(method="adaptive")], ids=["one-sample-steps", "interpolated", "adaptive"])
+@pytest.mark.parametrize("kw", [dict(stepping=lj.FixedStep(diffrax.Heun(), dt=0.01)),
+                                dict(stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02)),
+                                dict(stepping=lj.Adaptive())], ids=["one-sample-steps", "interpolated", "adaptive"])
 def test_sample_mean_equals_mean_over_stored_trajectory(kw):
     # sample_mean reduces each sample inside the time loop; it must equal the same mean taken over
     # the stored trajectory (stated: rtol 1e-12, only summation order differs), for every output a
@@ -315,7 +340,7 @@ def test_sample_mean_equals_mean_over_stored_trajectory(kw):
         return dict(track=(q.theta - q.theta_ref) ** 2, data=(q.theta - data[q.index]) ** 2,
                     torque=q.torque_nm, friction=q.friction_nm, v_ref=q.v_ref, t=q.t, z=q.z, omega=q.omega)
 
-    out = lj.simulate(system, 5.0, 100.0, sample_mean=fn, **kw)
+    out = lj.simulate(system, 5.0, 100.0, saveat=lj.SaveAt(mean=fn), **kw)
     assert isinstance(out, lj.SampleMean) and int(out.result) == lj.RESULT_OK
     expect = dict(track=jnp.mean((sol.theta - sol.theta_ref) ** 2), data=jnp.mean((sol.theta - data) ** 2),
                   torque=jnp.mean(sol.torque_nm), friction=jnp.mean(sol.friction_nm), v_ref=jnp.mean(sol.v_ref),
@@ -332,10 +357,10 @@ def test_sample_mean_gradient_matches_trajectory_gradient_and_differences():
         return eqx.tree_at(lambda s: s.friction, base, lj._params.from_vector(lj.LuGre, p))
 
     def in_loop(p):
-        return lj.simulate(system(p), 5.0, 100.0, dt=0.02, solver="bosh3", sample_mean=_tracking).value
+        return lj.simulate(system(p), 5.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value
 
     def stored(p):
-        sol = lj.simulate(system(p), 5.0, 100.0, dt=0.02, solver="bosh3")
+        sol = lj.simulate(system(p), 5.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02))
         return jnp.mean((sol.theta - sol.theta_ref) ** 2)
 
     p0 = jnp.asarray(lj._params.to_vector(lj.paper_segment(1)))
@@ -353,16 +378,16 @@ def test_sample_mean_gradient_matches_trajectory_gradient_and_differences():
 def test_sample_mean_flags_failed_lanes_and_rejects_bad_input():
     base = _pi_system(0.02)
     batch = eqx.tree_at(lambda s: s.joint.J, lj.broadcast_system(base, 3), jnp.array([0.128, 0.2, 1e-6]))
-    out = lj.simulate(batch, 5.0, 100.0, batched=True, sample_mean=_tracking)
+    out = lj.simulate(batch, 5.0, 100.0, batched=True, stepping=lj.FixedStep(), saveat=lj.SaveAt(mean=_tracking))
     np.testing.assert_array_equal(np.asarray(out.result), [0, 0, lj.RESULT_NONFINITE])
     loss = np.asarray(out.or_inf())
     assert np.isfinite(loss[:2]).all() and loss[2] == np.inf
-    sol = lj.simulate(batch, 5.0, 100.0, batched=True)
+    sol = lj.simulate(batch, 5.0, 100.0, batched=True, stepping=lj.FixedStep())
     np.testing.assert_allclose(loss[:2], np.mean((sol.theta - sol.theta_ref)[:2] ** 2, axis=-1), rtol=1e-12)
     with pytest.raises(ValueError, match="not both"):
-        lj.simulate(base, 1.0, 100.0, sample_mean=_tracking, reduce=lambda s: s.theta)
-    with pytest.raises(ValueError, match="sample_mean must be a function"):
-        lj.simulate(base, 1.0, 100.0, sample_mean=3.0)
+        lj.SaveAt(mean=_tracking, fn=lambda s: s.theta)
+    with pytest.raises(ValueError, match="SaveAt.mean must be a function"):
+        lj.SaveAt(mean=3.0)
 
 
 def test_derivative_barriers_shrink_the_backward_pass_and_change_nothing(monkeypatch):
@@ -370,7 +395,7 @@ def test_derivative_barriers_shrink_the_backward_pass_and_change_nothing(monkeyp
     # interpolated samples by a runtime 1.0 makes XLA compute each cotangent once instead of in
     # every kernel that reads it. The compiled gradient holds fewer multiply/add/subtract ops (stated:
     # < 0.85x; measured 364 against 495) and more divisions (the barriers), and the same gradient.
-    from lugre_jax import _simulate
+    from lugre_jax._simulation import _fixed, _system
     from lugre_jax.friction import _models
     import re
 
@@ -378,7 +403,7 @@ def test_derivative_barriers_shrink_the_backward_pass_and_change_nothing(monkeyp
 
     def loss(s0):
         s = eqx.tree_at(lambda s: s.friction.sigma0, base, s0)
-        return lj.simulate(s, 2.0, 100.0, dt=0.02, solver="bosh3", sample_mean=_tracking).value
+        return lj.simulate(s, 2.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value
 
     def compiled_counts():
         hlo = jax.jit(jax.grad(loss)).lower(s0).compile().as_text()
@@ -388,7 +413,8 @@ def test_derivative_barriers_shrink_the_backward_pass_and_change_nothing(monkeyp
 
     s0 = jnp.asarray(base.friction.sigma0)
     cheap, div, g = compiled_counts()
-    monkeypatch.setattr(_simulate, "derivative_stored_once", lambda x, one: x)
+    monkeypatch.setattr(_system, "derivative_stored_once", lambda x, one: x)
+    monkeypatch.setattr(_fixed, "derivative_stored_once", lambda x, one: x)
     monkeypatch.setattr(_models, "derivative_stored_once", lambda x, one: x)
     jax.clear_caches()  # simulate's inner jit would otherwise reuse its traced program
     cheap0, div0, g0 = compiled_counts()
@@ -408,7 +434,7 @@ def test_map_lanes_equals_vmap_and_grad_through_chunks_is_exact():
 
     def loss(p):
         s = eqx.tree_at(lambda s: s.friction, base, lj._params.from_vector(lj.LuGre, p))
-        return lj.simulate(s, 2.0, 100.0, dt=0.02, solver="bosh3", sample_mean=_tracking).value
+        return lj.simulate(s, 2.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value
 
     v, g = lj.map_lanes(jax.value_and_grad(loss), P, chunk_size=3, shard=False)
     v0, g0 = jax.vmap(jax.value_and_grad(loss))(P)
@@ -419,8 +445,7 @@ def test_map_lanes_equals_vmap_and_grad_through_chunks_is_exact():
     def total(P):
         s = eqx.tree_at(lambda s: s.friction, lj.broadcast_system(base, 7),
                         lj._params.from_vector(lj.LuGre, P))
-        return jnp.sum(lj.simulate(s, 2.0, 100.0, batched=True, chunk_size=3, shard=False, dt=0.02,
-                                   solver="bosh3", sample_mean=_tracking).value)
+        return jnp.sum(lj.simulate(s, 2.0, 100.0, batched=True, lanes=lj.Lanes(chunk_size=3, shard=False), stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value)
 
     np.testing.assert_allclose(jax.grad(total)(P), g0, rtol=1e-10, atol=1e-20)
     with pytest.raises(ValueError, match="same leading"):
@@ -431,10 +456,10 @@ def test_map_lanes_default_chunks_are_whole_vectors():
     # By default map_lanes balances ~64-lane chunks and rounds them up to a multiple of the 8 float64
     # lanes of a 512-bit vector (1,000 lanes: 16 chunks of 64, not of 63; measured 14 vs 23 ms for
     # gradients); below 8 lanes a chunk is the batch. The compiled function's key holds the chunk.
-    from lugre_jax import _simulate
+    from lugre_jax._simulation import _lanes
 
     for b, chunk in ((1000, 64), (130, 48), (5, 5)):  # 130: 3 chunks of 44, rounded up to 48
-        _simulate._CACHE.clear()
+        _lanes._CACHE.clear()
         out = lj.map_lanes(lambda x: 2.0 * x, jnp.arange(float(b)), shard=False)
         np.testing.assert_array_equal(np.asarray(out), 2.0 * np.arange(b))
-        assert [k[1] for k in _simulate._CACHE] == [chunk], (b, list(_simulate._CACHE))
+        assert [k[1] for k in _lanes._CACHE] == [chunk], (b, list(_lanes._CACHE))

@@ -35,7 +35,7 @@ def main(argv=None):
     systems = [lj.System(friction=lj.paper_friction(), joint=lj.Joint(J=lj.PAPER_J),
                          controller=lj.VelocityPID(kp=a.kp, ki=a.ki), reference=lj.VelocitySteps([v]))
                for v in VELOCITIES]
-    sol = lj.simulate(lj.stack_systems(systems), a.duration, a.hz, batched=True)
+    sol = lj.simulate(lj.stack_systems(systems), a.duration, a.hz, batched=True, stepping=lj.FixedStep())
     if not bool(np.all(np.asarray(sol.result) == lj.RESULT_OK)):
         raise SystemExit(f"simulation failed: result codes {np.asarray(sol.result)}")
     ts = np.asarray(sol.ts)
@@ -89,7 +89,8 @@ def stick_slip_map(kp, duration, n=15):
         om = jnp.where(late, sol.omega, jnp.nan)
         return jnp.nanmax(om), jnp.nanmin(om), sol.result
 
-    hi, lo, res = (np.asarray(x) for x in lj.simulate(batch, duration, 10.0, batched=True, reduce=reduce))
+    hi, lo, res = (np.asarray(x) for x in lj.simulate(batch, duration, 10.0, batched=True, stepping=lj.FixedStep(),
+                                                              saveat=lj.SaveAt(fn=reduce)))
     v = V.ravel()
     swing = (hi - lo) / v
     sticks = (lo < 0.1 * v) & (res == 0)

@@ -17,12 +17,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args) -> int:
     from .. import simulate
-    from ..io import write_csv
-    from ..io._scenario import load_scenario
+    from ..io import load_scenario, write_csv
 
     system, opts = load_scenario(args.scenario)
-    duration, hz = opts.pop("duration_s"), opts.pop("sample_hz")
-    sol = simulate(system, duration, hz, **opts)
+    sol = simulate(system, opts["duration_s"], opts["sample_hz"], stepping=opts.get("stepping"))
     if int(sol.result) != 0:
         raise ValueError(
             f"{args.scenario}: the solver failed (result code {int(sol.result)}: "

@@ -12,5 +12,6 @@ from ._reference import (
     AbstractReference as AbstractReference,
     PositionSine as PositionSine,
     VelocityRamp as VelocityRamp,
+    VelocityTable as VelocityTable,
     VelocitySteps as VelocitySteps,
 )

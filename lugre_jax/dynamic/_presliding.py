@@ -15,7 +15,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._simulate import System, simulate
+from .._simulation import FixedStep, System, simulate
 from ..control import OpenLoop, VelocitySteps
 from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Segmented, Stribeck
 from ..plant import Joint
@@ -70,7 +70,7 @@ def presliding_step(friction: AbstractFrictionModel, J: float, step_nm: float, *
                   reference=VelocitySteps([0.0]))
     # The fixed-step path agrees with the adaptive Kvaerno5 one to 1e-6 relative here (measured) and
     # compiles 3x faster.
-    sol = simulate(sys_, duration_s, sample_hz)
+    sol = simulate(sys_, duration_s, sample_hz, stepping=FixedStep())
     if int(sol.result) != 0:
         raise ValueError(f"pre-sliding simulation failed (result {int(sol.result)}); shorten duration_s or the step")
     ts = np.asarray(sol.ts)

@@ -28,13 +28,13 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
-from .._simulate import RESULT_OK, System, simulate
+from .._simulation import RESULT_OK, FixedStep, System, simulate
 
 
 def theta_response(build: Callable[[jax.Array], System], p, duration_s: float, sample_hz: float):
     """Joint angle [deg] of ``build(p)`` on the grid ``0, 1/sample_hz, ..., duration_s`` and the
     result code (non-zero = failed)."""
-    sol = simulate(build(p), duration_s, sample_hz)
+    sol = simulate(build(p), duration_s, sample_hz, stepping=FixedStep())
     return sol.theta, sol.result
 
 

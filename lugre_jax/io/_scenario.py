@@ -22,8 +22,16 @@ Units are the paper's: deg, deg/s, N*m, s. Schema (``?`` = optional)::
                   | {"type": "position_sine", "amplitude_deg", "frequency_hz"},
       "duration_s", "sample_hz"?: 100,
       "initial"?:   {"theta"?, "omega"?, "z"?},
-      "solver"?:    {"method"?: "fixed" | "adaptive", "dt"?, "name"?, "rtol"?, "atol"?, "max_steps"?}
+      "solver"?:    {"method"?: "adaptive" (default) | "fixed", "name"?, "dt"?, "rtol"?, "atol"?,
+                     "max_steps"?}
     }
+
+``reference`` may also be ``{"type": "velocity_table", "times_s": [s...], "velocities_deg_s": [...]}``
+(piecewise linear; a repeated time is a step). ``solver`` becomes a stepping object:
+``"adaptive"`` -> :class:`lugre_jax.Adaptive` (``name`` one of kvaerno5, kvaerno3, tsit5, dopri5;
+``rtol``, ``atol``, ``max_steps``), ``"fixed"`` -> :class:`lugre_jax.FixedStep` (``name`` one of
+tsit5, bosh3, heun, ralston, midpoint, dopri5; ``dt`` [s], default 2.5 ms or the sample period if
+shorter). Without a ``solver`` section the scenario is solved adaptively (correct by default).
 """
 
 from __future__ import annotations
@@ -33,10 +41,11 @@ import math
 from pathlib import Path
 from typing import Any
 
+import diffrax
 import numpy as np
 
 from .. import control as C
-from .._simulate import N_STATES, STATE_NAMES, System
+from .._simulation import N_STATES, STATE_NAMES, Adaptive, FixedStep, System
 from ..friction import LuGre, Segmented
 from ..plant import DCMotor, IdealTorque, Joint, paper_friction
 
@@ -80,6 +89,9 @@ def _lugre(d: dict, where: str) -> LuGre:
     kw = {k: _num(d, k, where, nonneg=True) for k in ("Fc", "Fs", "sigma0", "sigma1", "sigma2")}
     kw["vs"] = _num(d, "vs", where, positive=True)
     kw["delta"] = _num(d, "delta", where, 2.0, positive=True)
+    if kw["Fs"] < kw["Fc"]:
+        raise ScenarioError(f"{where}.Fs: expected a static friction >= Fc = {kw['Fc']!r} N*m (the "
+                            f"Stribeck curve falls from Fs to Fc), got {kw['Fs']!r}")
     return LuGre(**kw)
 
 
@@ -164,9 +176,62 @@ def _reference(d: Any, where: str = "reference"):
     if kind == "position_sine":
         _only(d, {"type", "amplitude_deg", "frequency_hz"}, where)
         return C.PositionSine(_num(d, "amplitude_deg", where), _num(d, "frequency_hz", where, positive=True))
+    if kind == "velocity_table":
+        _only(d, {"type", "times_s", "velocities_deg_s"}, where)
+        cols = {}
+        for k in ("times_s", "velocities_deg_s"):
+            v = d.get(k)
+            if (not isinstance(v, list) or not v
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v)):
+                raise ScenarioError(f"{where}.{k}: expected a non-empty list of finite numbers, got {v!r}")
+            cols[k] = v
+        t = cols["times_s"]
+        if len(t) != len(cols["velocities_deg_s"]):
+            raise ScenarioError(f"{where}: times_s and velocities_deg_s must have the same length "
+                                f"({len(t)} and {len(cols['velocities_deg_s'])})")
+        if t[0] < 0 or any(b < a for a, b in zip(t, t[1:])):
+            raise ScenarioError(f"{where}.times_s: expected non-decreasing times >= 0 s")
+        return C.VelocityTable(np.asarray(t, float), np.asarray(cols["velocities_deg_s"], float))
     raise ScenarioError(
-        f"{where}.type: expected one of \"velocity_steps\", \"velocity_step\", \"ramp\", \"position_sine\", got {kind!r}"
+        f"{where}.type: expected one of \"velocity_steps\", \"velocity_step\", \"ramp\", \"position_sine\", "
+        f"\"velocity_table\", got {kind!r}"
     )
+
+
+_FIXED = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
+          "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
+_ADAPTIVE = {"kvaerno5": diffrax.Kvaerno5, "kvaerno3": diffrax.Kvaerno3, "tsit5": diffrax.Tsit5,
+             "dopri5": diffrax.Dopri5}
+
+
+def _stepping(s: Any, sample_hz: float):
+    """The ``solver`` section -> a stepping object (names in a file map to diffrax solvers)."""
+    s = _obj(s, "solver")
+    _only(s, {"method", "dt", "name", "rtol", "atol", "max_steps"}, "solver")
+    method = s.get("method", "adaptive")
+    if method not in ("fixed", "adaptive"):
+        raise ScenarioError(f"solver.method: expected \"adaptive\" or \"fixed\", got {method!r}")
+    names = _FIXED if method == "fixed" else _ADAPTIVE
+    name = s.get("name", "tsit5" if method == "fixed" else "kvaerno5")
+    if name not in names:
+        raise ScenarioError(f"solver.name: expected one of {', '.join(sorted(names))} for method "
+                            f"\"{method}\", got {name!r}")
+    if method == "fixed":
+        for k in ("rtol", "atol", "max_steps"):
+            if k in s:
+                raise ScenarioError(f"solver.{k}: only for method \"adaptive\" (a fixed step has no tolerance)")
+        dt = _num(s, "dt", "solver", min(2.5e-3, 1.0 / sample_hz), positive=True)
+        h = 1.0 / sample_hz
+        if dt > h * (1 + 1e-9) and abs(dt / h - round(dt / h)) > 1e-9 * dt / h:
+            raise ScenarioError(f"solver.dt: expected a step <= the sample period {h!r} s or a whole multiple "
+                                f"of it, got {dt!r}")
+        return FixedStep(names[name](), dt=dt)
+    if "dt" in s:
+        raise ScenarioError("solver.dt: only for method \"fixed\" (the adaptive solver chooses its steps)")
+    d = Adaptive()
+    return Adaptive(names[name](), rtol=_num(s, "rtol", "solver", d.rtol, positive=True),
+                    atol=_num(s, "atol", "solver", d.atol, positive=True),
+                    max_steps=int(_num(s, "max_steps", "solver", d.max_steps, positive=True)))
 
 
 TOP_KEYS = {"friction", "joint", "motor", "controller", "reference", "duration_s", "sample_hz", "initial", "solver"}
@@ -218,21 +283,7 @@ def scenario_from_dict(d: Any) -> tuple[System, dict]:
     if n > 5e7:
         raise ScenarioError(f"scenario: {int(n)} samples is too many; lower sample_hz or duration_s")
     if "solver" in d:
-        s = _obj(d["solver"], "solver")
-        _only(s, {"method", "dt", "name", "rtol", "atol", "max_steps"}, "solver")
-        if "method" in s:
-            if s["method"] not in ("fixed", "adaptive"):
-                raise ScenarioError(f"solver.method: expected \"fixed\" or \"adaptive\", got {s['method']!r}")
-            opts["method"] = s["method"]
-        if "name" in s:
-            if not isinstance(s["name"], str):
-                raise ScenarioError(f"solver.name: expected a string, got {s['name']!r}")
-            opts["solver"] = s["name"]
-        for k in ("dt", "rtol", "atol"):
-            if k in s:
-                opts[k] = _num(s, k, "solver", positive=True)
-        if "max_steps" in s:
-            opts["max_steps"] = int(_num(s, "max_steps", "solver", positive=True))
+        opts["stepping"] = _stepping(d["solver"], opts["sample_hz"])
     system = System(friction=friction, joint=joint, controller=controller, reference=reference,
                     actuator=actuator, y0=y0)
     return system, opts

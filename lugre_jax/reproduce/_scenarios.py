@@ -24,7 +24,7 @@ import jax
 import numpy as np
 
 from .. import metrics as M
-from .._simulate import System, simulate, stack_systems
+from .._simulation import Adaptive, FixedStep, System, simulate, stack_systems
 from ..control import OpenLoop, PositionSine, VelocityPID, VelocityRamp, VelocitySteps
 from ..friction import LuGre, Segmented
 from ..plant import Joint
@@ -41,21 +41,22 @@ def _np(sol, i=None):
                 v_ref=pick(sol.v_ref), torque=pick(sol.torque_nm), result=int(pick(sol.result)))
 
 
-def _key(system, duration_s, sample_hz, solve_kw):
+def _key(system, duration_s, sample_hz, stepping):
     leaves, tree = jax.tree.flatten(system)
     return (str(tree), tuple(np.asarray(x).tobytes() if eqx.is_array(x) else repr(x) for x in leaves),
-            float(duration_s), float(sample_hz), tuple(sorted(solve_kw.items())))
+            float(duration_s), float(sample_hz), stepping)
 
 
 def run_lanes(systems: dict, duration_s: float, sample_hz: float, memo: dict | None = None,
-              **solve_kw) -> dict:
+              stepping=FixedStep()) -> dict:
     """Simulate ``{label: System}``; systems of identical structure share one batched solve. With
-    ``memo`` (a dict), runs already simulated (same system, duration, rate and solver options) are
-    reused. ``solve_kw`` goes to :func:`~lugre_jax.simulate` (e.g. ``method="adaptive"``)."""
+    ``memo`` (a dict), runs already simulated (same system, duration, rate and stepping) are
+    reused. The paper's scenarios use the fixed step they were validated with; pass ``stepping``
+    (e.g. ``Adaptive(...)``) for stiff ones."""
     if memo is not None:
-        keys = {k: _key(s, duration_s, sample_hz, solve_kw) for k, s in systems.items()}
+        keys = {k: _key(s, duration_s, sample_hz, stepping) for k, s in systems.items()}
         todo = {k: s for k, s in systems.items() if keys[k] not in memo}
-        new = run_lanes(todo, duration_s, sample_hz, **solve_kw) if todo else {}
+        new = run_lanes(todo, duration_s, sample_hz, stepping=stepping) if todo else {}
         for k, tr in new.items():
             memo[keys[k]] = tr
         return {k: memo[keys[k]] for k in systems}
@@ -66,11 +67,11 @@ def run_lanes(systems: dict, duration_s: float, sample_hz: float, memo: dict | N
     out = {}
     for labels in groups.values():
         if len(labels) == 1:
-            sol = simulate(systems[labels[0]], duration_s, sample_hz, **solve_kw)
+            sol = simulate(systems[labels[0]], duration_s, sample_hz, stepping=stepping)
             out[labels[0]] = _np(sol)
         else:
             sol = simulate(stack_systems([systems[k] for k in labels]), duration_s, sample_hz, batched=True,
-                           **solve_kw)
+                           stepping=stepping)
             for i, k in enumerate(labels):
                 out[k] = _np(sol, i)
     for k, tr in out.items():
@@ -136,7 +137,7 @@ def fig08(setup: Setup) -> dict:
     label = "open loop (feedforward of identified F(v), no feedback)"
     ff = float(setup.observers["GA-PSO piecewise"].steady_state(STEP_V))
     tr = run_lanes({label: setup.system(OpenLoop(bias=ff), VelocitySteps([STEP_V]))}, STEP_DURATION_S, 20.0,
-                   setup.runs, method="adaptive", rtol=1e-7, atol=1e-10)[label]
+                   setup.runs, stepping=Adaptive(rtol=1e-7, atol=1e-10))[label]
     traces[label] = tr
     moving = np.nonzero(tr["omega"] > 10 * STEP_V)[0]
     met[label] = dict(step_metrics(tr, STEP_V), torque_nm=ff,
@@ -252,7 +253,7 @@ def creep_search(setup: Setup, v: float = STEP_V, duration_s: float = 120.0) -> 
     flagged when the velocity overshoots the command by 20% (a slip phase) after moving."""
     pairs = [(kp, ki) for kp in CREEP_KP for ki in CREEP_KI]
     systems = [setup.system(VelocityPID(kp=kp, ki=ki), VelocitySteps([v])) for kp, ki in pairs]
-    sol = simulate(stack_systems(systems), duration_s, 10.0, batched=True)
+    sol = simulate(stack_systems(systems), duration_s, 10.0, batched=True, stepping=FixedStep())
     if np.any(np.asarray(sol.result) != 0):
         raise RuntimeError(f"creep search: lanes failed {np.asarray(sol.result)}")
     t, th, om = np.asarray(sol.ts), np.asarray(sol.theta), np.asarray(sol.omega)

@@ -32,7 +32,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._simulate import System, simulate, stack_systems
+from .._simulation import FixedStep, System, simulate, stack_systems
 from ..control import LuGreCompensated, PositionPID, VelocityPID, VelocitySteps
 from ..dynamic._presliding import lugre_from_static, presliding_step, sigma1_eq18
 from ..friction import AbstractFrictionModel, LuGre, Segmented
@@ -150,8 +150,8 @@ def identify_observers(data_path, sigma0: float, J: float, *, quick: bool = Fals
     for i, (label, (scheme, method)) in enumerate(MODELS.items()):
         settings = {}
         if quick:
-            settings = {"pso": dict(n_particles=20, n_iterations=20), "ga": dict(generations=5),
-                        "gapso": dict(pso=dict(n_particles=20, n_iterations=20), ga=dict(generations=5))}[method]
+            settings = {"pso": dict(n_particles=20, max_steps=20), "ga": dict(max_steps=5),
+                        "gapso": dict(pso=dict(n_particles=20, max_steps=20), ga=dict(max_steps=5))}[method]
         kw = dict(edges=PAPER_EDGES) if scheme == "piecewise" else {}
         res = identify(data, scheme, method, key=jax.random.fold_in(key, i), **kw, **settings)
         static = res.friction_model()
@@ -178,7 +178,7 @@ def calibrate_ki(plant, J: float, kp: float, *, target_s: float = PAPER_DEAD_ZON
     grid = np.geomspace(100.0, 3000.0, 12) if grid is None else np.asarray(grid, dtype=np.float64)
     systems = [System(friction=plant, joint=Joint(J=J), controller=VelocityPID(kp=kp, ki=float(k)),
                       reference=VelocitySteps([v])) for k in grid]
-    sol = simulate(stack_systems(systems), duration_s, 20.0, batched=True)
+    sol = simulate(stack_systems(systems), duration_s, 20.0, batched=True, stepping=FixedStep())
     if np.any(np.asarray(sol.result) != 0):
         raise RuntimeError(f"ki calibration: lanes failed {np.asarray(sol.result)}")
     dz = dead_zone_lag(np.asarray(sol.ts), np.asarray(sol.theta), v)

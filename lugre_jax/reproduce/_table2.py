@@ -20,7 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._simulate import System, simulate
+from .._simulation import FixedStep, System, simulate
 from ..control import VelocityPID, VelocityRamp
 from ..dynamic._presliding import inertia_eq18, presliding_step, sigma1_eq18
 from ..dynamic._timeseries import design_grid, fit_dynamic, torque_sine_system, with_dynamics
@@ -33,7 +33,7 @@ STEP_SIZES_NM = (0.05, 0.1, 0.2, 0.5, 1.0)
 
 
 def _recording(build, p, duration_s, sample_hz, key):
-    th = np.asarray(simulate(build(jnp.asarray(p, float)), duration_s, sample_hz).theta)
+    th = np.asarray(simulate(build(jnp.asarray(p, float)), duration_s, sample_hz, stepping=FixedStep()).theta)
     return th + NOISE_DEG * np.asarray(jax.random.normal(key, th.shape))
 
 

@@ -1,0 +1,150 @@
+"""Batches: lanes in chunks (``lax.map`` over ``vmap``), split over host devices, compiled once."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jax.sharding import Mesh, NamedSharding, PartitionSpec
+
+from .._types import PyTree
+
+DEFAULT_CHUNK = 200  # simulate's forward solves: a step's working set stays in cache
+_MAP_LANES_CHUNK = 64  # map_lanes' reverse passes store each lane's state per step: smaller chunks
+_VECTOR_LANES = 8  # float64 lanes of a 512-bit vector (lugre_jax.configure's vector width)
+
+
+def lane_count(tree, what: str, fix: str) -> int:
+    arrays = [x for x in jax.tree.leaves(tree) if eqx.is_array(x)]
+    sizes = {x.shape[0] for x in arrays if x.ndim > 0}
+    if len(sizes) != 1 or any(x.ndim == 0 for x in arrays):
+        raise ValueError(
+            f"{what} needs one leading batch axis on every array leaf; {fix} "
+            f"(found leading sizes {sorted(sizes)} and {sum(x.ndim == 0 for x in arrays)} unbatched scalars)"
+        )
+    return sizes.pop()
+
+
+def batch_size_of(system) -> int:
+    """Leading axis shared by every array leaf of a batched system (raises if they disagree).
+
+    Python-number leaves (e.g. ``delta = 2.0``) are compile-time constants shared by all lanes.
+    """
+    return lane_count(system, "a batched System", "use lugre_jax.broadcast_system(system, n) or "
+                      "lugre_jax.stack_systems([...]) to build one")
+
+
+def broadcast_system(system, n: int):
+    """Repeat an unbatched system ``n`` times along a new leading axis (Python numbers stay shared)."""
+    return jax.tree.map(lambda x: jnp.broadcast_to(x, (n,) + x.shape) if eqx.is_array(x) else x, system)
+
+
+def stack_systems(systems: list):
+    """Stack systems of identical structure into one batched system (Python numbers must agree)."""
+    def stack(*xs):
+        if eqx.is_array(xs[0]):
+            return jnp.stack(xs)
+        if any(x != xs[0] for x in xs):
+            raise ValueError("stack_systems: Python-number fields differ between systems; pass arrays")
+        return xs[0]
+    return jax.tree.map(stack, *systems)
+
+
+def chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_chunk: int = DEFAULT_CHUNK,
+                  lane_multiple: int = 1):
+    """``jax.vmap(one_lane)(tree)`` over the ``b`` lanes (leading axis) of ``tree``'s arrays, in
+    chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable). A
+    default chunk of more than ``lane_multiple`` lanes is rounded up to a multiple of it."""
+    devices = jax.devices()
+    ndev = max(1, min(len(devices) if shard else 1, b))
+    per_dev = -(-b // ndev)
+    if chunk_size is None:
+        # Balanced so that padding stays below one lane per chunk, or below ``lane_multiple``
+        # lanes per chunk when chunks are rounded up to whole vectors.
+        n_chunks = -(-per_dev // default_chunk)
+        chunk = -(-per_dev // n_chunks)
+        if chunk > lane_multiple:
+            chunk = -(-chunk // lane_multiple) * lane_multiple
+    else:
+        chunk = max(1, min(int(chunk_size), per_dev))
+    per_dev = -(-per_dev // chunk) * chunk
+    total = per_dev * ndev
+    if total != b:  # pad with copies of lane 0, dropped afterwards
+        tree = jax.tree.map(
+            lambda x: jnp.concatenate([x, jnp.repeat(x[:1], total - b, 0)]) if eqx.is_array(x) else x,
+            tree,
+        )
+    fn = _compiled(ndev, chunk, key, one_lane)
+    if ndev > 1:
+        mesh = Mesh(np.array(devices[:ndev]), ("lanes",))
+        tree = eqx.combine(
+            jax.device_put(eqx.filter(tree, eqx.is_array), NamedSharding(mesh, PartitionSpec("lanes"))),
+            eqx.filter(tree, eqx.is_array, inverse=True),
+        )
+    dyn, static = eqx.partition(tree, eqx.is_array)
+    return jax.tree.map(lambda x: x[:b], fn(dyn, static))
+
+
+_CACHE: dict = {}
+
+
+def _compiled(ndev: int, chunk: int, key, one_lane):
+    """One jitted function per (devices, chunk, key): repeated calls reuse the compilation."""
+    key = (ndev, chunk, key)
+    if key in _CACHE:
+        return _CACHE[key]
+
+    def run_chunks(tree):
+        # lax.map over chunks keeps peak memory at one chunk's working set.
+        dyn, static = eqx.partition(tree, eqx.is_array)
+        n_lanes = jax.tree.leaves(dyn)[0].shape[0]
+        dyn = jax.tree.map(lambda x: x.reshape((n_lanes // chunk, chunk) + x.shape[1:]), dyn)
+        per_chunk = jax.vmap(lambda d: one_lane(eqx.combine(d, static)))
+        if n_lanes > chunk:
+            # Under reverse mode a lax.map stores every iteration's residuals before its first
+            # backward step: all chunks' stored states at once, out of cache. Each chunk is
+            # recomputed instead, just before its own backward sweep (one more forward sweep; a
+            # forward solve is unaffected). map_lanes differentiates chunk by chunk and needs neither.
+            per_chunk = jax.checkpoint(per_chunk)
+        out = jax.lax.map(per_chunk, dyn)
+        return jax.tree.map(lambda x: x.reshape((n_lanes,) + x.shape[2:]), out)
+
+    def fn(dyn, static):
+        run = lambda d: run_chunks(eqx.combine(d, static))  # noqa: E731
+        if ndev > 1:
+            mesh = Mesh(np.array(jax.devices()[:ndev]), ("lanes",))
+            run = jax.shard_map(run, mesh=mesh, in_specs=PartitionSpec("lanes"),
+                                out_specs=PartitionSpec("lanes"), check_vma=False)
+        return run(dyn)
+
+    _CACHE[key] = eqx.filter_jit(fn)
+    if len(_CACHE) > 64:  # bounded: each entry holds a compiled executable
+        _CACHE.pop(next(iter(_CACHE)))
+    return _CACHE[key]
+
+
+def map_lanes(fn, xs: PyTree, *, chunk_size: int | None = None, shard: bool | None = None) -> PyTree:
+    """``jax.vmap(fn)(xs)``, computed the way batched :func:`simulate` computes its lanes.
+
+    ``xs`` is a pytree whose array leaves share a leading lane axis (e.g. parameter sets (n, 6), or a
+    batched :class:`System`); ``fn`` maps one lane to a pytree. Lanes go ``chunk_size`` at a time
+    (default ~64, balanced, a multiple of 8: a reverse pass stores each lane's state at every step,
+    and larger chunks leave the cache) and, with ``shard=True`` or by default when several host
+    devices exist and there are at least two default chunks' worth of lanes, split across devices.
+
+    The use it is for: per-lane derivatives of per-lane losses, e.g. a swarm's gradients,
+    ``map_lanes(jax.value_and_grad(loss), P)`` with ``loss(p)`` simulating one lane (ideally with
+    ``SaveAt(mean=...)``). Each chunk is differentiated on its own, so a reverse pass's stored
+    states stay in cache; ``jax.grad`` of a sum over one batched ``simulate`` call gives the same
+    numbers but recomputes each chunk's forward solve first (docs/performance.md).
+
+    ``fn`` is part of the compilation's key, as with ``jax.jit``: pass the same function object to
+    reuse the compiled program (a new lambda per call compiles anew).
+    """
+    if not callable(fn):
+        raise ValueError(f"map_lanes needs a function of one lane, got {type(fn).__name__}")
+    b = lane_count(xs, "map_lanes", "give every array leaf of xs the same leading (lane) axis")
+    if shard is None:
+        shard = len(jax.devices()) > 1 and b >= 2 * _MAP_LANES_CHUNK
+    return chunked_lanes(("map_lanes", fn), fn, xs, b, chunk_size, shard, _MAP_LANES_CHUNK, _VECTOR_LANES)

@@ -1,0 +1,177 @@
+"""``simulate``: one closed-loop scenario, or a batch of them in one jitted call."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..xla import require_x64
+from ._adaptive import solve_adaptive
+from ._fixed import rhs_evals, solve_fixed, step_plan
+from ._lanes import batch_size_of, chunked_lanes
+from ._solution import RESULT_OK, SampleMean, Solution
+from ._stepping import AbstractStepping, Adaptive, FixedStep, Lanes, SaveAt
+from ._system import System, sample, signals, split
+
+# Below this many right-hand-side evaluations per call, splitting lanes over host devices costs more
+# than the second device gains (the split has a fixed cost per call; docs/performance.md).
+_SHARD_MIN_EVALS = 4e6
+
+
+def _sample_grid(duration_s: float, sample_hz: float) -> int:
+    if not (np.isfinite(duration_s) and duration_s > 0):
+        raise ValueError(f"duration_s must be a positive number of seconds, got {duration_s!r}")
+    if not (np.isfinite(sample_hz) and sample_hz > 0):
+        raise ValueError(f"sample_hz must be a positive number, got {sample_hz!r}")
+    n = int(round(duration_s * sample_hz))
+    if abs(n / sample_hz - duration_s) > 1e-9 * max(1.0, duration_s):
+        raise ValueError(
+            f"duration_s={duration_s} is not a whole number of samples at sample_hz={sample_hz}; "
+            "choose them so that duration_s*sample_hz is an integer"
+        )
+    return n + 1
+
+
+def _outputs(system: System, ts, ys, result) -> Solution:
+    _, aux = jax.vmap(lambda t, y: signals(t, split(y), system))(ts, ys)
+    return Solution(ts, ys, aux["torque_nm"], aux["friction_nm"], aux["theta_ref"], aux["v_ref"], result)
+
+
+def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepping, saveat: SaveAt):
+    # A non-positive inertia is a malformed system, not a bad candidate: fail loudly (traced check),
+    # rather than return a lane of NaN that an optimiser would read as merely "infinitely bad".
+    J = eqx.error_if(
+        system.joint.J, ~(system.joint.J > 0),
+        "Joint.J must be > 0 N*m*s^2/deg (equivalent inertia at the joint)",
+    )
+    system = eqx.tree_at(lambda s: s.joint.J, system, J)
+    ts = jnp.arange(n) / sample_hz
+    if isinstance(stepping, FixedStep):
+        if saveat.mean is not None:
+            return SampleMean(*solve_fixed(system, n, sample_hz, stepping, saveat.mean))
+        ys, res = solve_fixed(system, n, sample_hz, stepping)
+    else:
+        ys, res = solve_adaptive(system, ts, stepping)
+        if saveat.mean is not None:  # the same mean, from the sampled solution
+            vals = jax.vmap(lambda i, t, y: saveat.mean(sample(system, i, t, split(y))))(jnp.arange(n), ts, ys)
+            return SampleMean(jax.tree.map(lambda v: jnp.mean(v, axis=0), vals), res)
+    sol = _outputs(system, ts, ys, res)
+    return sol if saveat.fn is None else saveat.fn(sol)
+
+
+@eqx.filter_jit
+def _jit_one(system, n, sample_hz, stepping, saveat):
+    return _solve_one(system, n, sample_hz, stepping, saveat)
+
+
+def simulate(
+    system: System,
+    duration_s: float,
+    sample_hz: float = 100.0,
+    *,
+    stepping: AbstractStepping | None = None,
+    saveat: SaveAt = SaveAt(),
+    batched: bool = False,
+    lanes: Lanes = Lanes(),
+) -> Solution | SampleMean:
+    """Simulate ``system`` from rest (or ``system.y0``) for ``duration_s`` seconds.
+
+    Samples at ``t = 0, 1/sample_hz, ..., duration_s``: positions in deg, velocities in deg/s,
+    torques in N*m, time in s.
+
+    ``stepping``: how the ODE is stepped. Default :class:`Adaptive` (Kvaerno5, rtol 1e-8, atol
+    1e-10, stepping onto every discontinuity of the reference): correct by default, agreeing with
+    a stiff scipy reference to 1e-6 deg in position and 1e-4 N*m in torque. For speed on batches
+    choose :class:`FixedStep` explicitly (e.g. ``FixedStep(diffrax.Bosh3(), dt=0.02)``) and check it
+    with :func:`check_stepping`.
+
+    ``saveat``: what is returned per lane (:class:`SaveAt`): the whole :class:`Solution` (default),
+    a function of it (``fn``) or a mean over samples accumulated in the time loop (``mean``, a
+    :class:`SampleMean`).
+
+    ``batched=True``: every array leaf of ``system`` has a leading batch axis; all lanes are solved
+    in one jitted call, spread as ``lanes`` (:class:`Lanes`) says. Under ``vmap`` an adaptive solve
+    makes every lane take the slowest lane's steps.
+
+    Every lane carries a result code (``result``): :data:`RESULT_OK`, :data:`RESULT_NONFINITE`
+    (the state blew up) or :data:`RESULT_SOLVER_FAILED` (the adaptive solver gave up); failed lanes
+    are never reported as success. Differentiable in every leaf of ``system``.
+    """
+    require_x64()
+    stepping = Adaptive() if stepping is None else stepping
+    if not isinstance(stepping, AbstractStepping):
+        raise ValueError(f"stepping must be lugre_jax.FixedStep(...) or lugre_jax.Adaptive(...), got "
+                         f"{type(stepping).__name__}")
+    if not isinstance(saveat, SaveAt):
+        raise ValueError(f"saveat must be a lugre_jax.SaveAt, got {type(saveat).__name__}")
+    if not isinstance(lanes, Lanes):
+        raise ValueError(f"lanes must be a lugre_jax.Lanes, got {type(lanes).__name__}")
+    sample_hz = float(sample_hz)
+    n = _sample_grid(float(duration_s), sample_hz)
+    if isinstance(stepping, FixedStep):
+        step_plan(stepping.dt, sample_hz)  # a dt that fits no sample grid is refused here
+    if not batched:
+        return _jit_one(system, n, sample_hz, stepping, saveat)
+    b = batch_size_of(system)
+    shard = lanes.shard
+    if shard is None:
+        evals = rhs_evals(stepping, n, sample_hz) if isinstance(stepping, FixedStep) else math.inf
+        shard = len(jax.devices()) > 1 and b * evals >= _SHARD_MIN_EVALS and math.isfinite(evals)
+    key = ("simulate", n, sample_hz, stepping, saveat)
+    out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat), system, b,
+                        lanes.chunk_size, shard)
+    if saveat.fn is None and saveat.mean is None:
+        out = eqx.tree_at(lambda s: s.ts, out, out.ts[0])
+    return out
+
+
+@dataclasses.dataclass(frozen=True)
+class SteppingCheck:
+    """How far a stepping is from a tight adaptive reference on a few lanes (max over lanes and
+    samples): position [deg], velocity [deg/s], actuator torque [N*m]."""
+
+    stepping: str
+    reference: str
+    lanes: tuple[int, ...]
+    theta_deg: float
+    omega_deg_s: float
+    torque_nm: float
+    failed_lanes: tuple[int, ...]
+
+    def to_json(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def check_stepping(system: System, duration_s: float, sample_hz: float, stepping: AbstractStepping, *,
+                   batched: bool = False, n_lanes: int = 4,
+                   reference: AbstractStepping = Adaptive(rtol=1e-10, atol=1e-12)) -> SteppingCheck:
+    """Re-solve up to ``n_lanes`` lanes (evenly spread over the batch) with ``reference`` and report
+    the largest deviation of ``stepping``'s solution from it: whether a fixed step was too coarse.
+
+    Lanes where either solve failed are listed in ``failed_lanes`` and left out of the maxima.
+    """
+    if batched:
+        b = batch_size_of(system)
+        idx = tuple(int(i) for i in np.unique(np.linspace(0, b - 1, min(n_lanes, b)).round().astype(int)))
+        picked = jax.tree.map(lambda x: x[np.asarray(idx)] if eqx.is_array(x) else x, system)
+    else:
+        idx, picked = (0,), jax.tree.map(lambda x: x[None] if eqx.is_array(x) else x, system)
+    a = simulate(picked, duration_s, sample_hz, stepping=stepping, batched=True)
+    r = simulate(picked, duration_s, sample_hz, stepping=reference, batched=True)
+    ok = np.asarray((a.result == RESULT_OK) & (r.result == RESULT_OK))
+
+    def worst(x, y):
+        d = np.abs(np.asarray(x) - np.asarray(y))[ok]
+        return float(d.max()) if d.size else float("nan")
+
+    return SteppingCheck(
+        stepping=stepping.describe(), reference=reference.describe(), lanes=idx,
+        theta_deg=worst(a.theta, r.theta), omega_deg_s=worst(a.omega, r.omega),
+        torque_nm=worst(a.torque_nm, r.torque_nm),
+        failed_lanes=tuple(i for i, good in zip(idx, ok) if not good),
+    )

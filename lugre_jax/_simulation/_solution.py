@@ -1,0 +1,114 @@
+"""What a simulation returns: sampled trajectories, one sample as a reduction sees it, per-lane
+means, and the per-lane result codes."""
+
+from __future__ import annotations
+
+import abc
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from .._types import Array, Float, Int, PyTree
+
+RESULT_OK = 0
+RESULT_NONFINITE = 1
+RESULT_SOLVER_FAILED = 2
+RESULT_NAMES = {RESULT_OK: "ok", RESULT_NONFINITE: "state not finite",
+                RESULT_SOLVER_FAILED: "adaptive solver gave up (max_steps or step size)"}
+
+
+class _AbstractStateView(eqx.Module):
+    """Named views of the state components shared by :class:`Solution` and :class:`Sample`."""
+
+    @abc.abstractmethod
+    def _component(self, k):
+        ...
+
+    @property
+    def theta(self):
+        """Joint angle [deg]."""
+        return self._component(0)
+
+    @property
+    def omega(self):
+        """Joint velocity [deg/s]."""
+        return self._component(1)
+
+    @property
+    def z(self):
+        """Bristle deflection [deg]."""
+        return self._component(2)
+
+
+class Solution(_AbstractStateView):
+    """Sampled trajectories. Arrays have shape ``(*batch, n_samples)`` (``ys``: ``(..., n, 8)``).
+
+    ``torque_nm`` is the actuator torque at the joint [N*m], ``friction_nm`` the plant's friction
+    torque [N*m], ``result`` the per-lane result code (:data:`RESULT_OK` = 0).
+    """
+
+    ts: Float[Array, " n"]
+    ys: Float[Array, "*b n 8"]
+    torque_nm: Float[Array, "*b n"]
+    friction_nm: Float[Array, "*b n"]
+    theta_ref: Float[Array, "*b n"]
+    v_ref: Float[Array, "*b n"]
+    result: Int[Array, "*b"]
+
+    def _component(self, k):
+        return self.ys[..., k]
+
+    @property
+    def ok(self):
+        return self.result == RESULT_OK
+
+
+class Sample(_AbstractStateView):
+    """One sample of one simulation, as a ``SaveAt(mean=fn)`` function sees it.
+
+    ``index`` is the sample number (0 at t = 0: use it to look up measured data), ``t`` the time
+    [s], ``y`` the 8 state components in ``STATE_NAMES`` order (deg, deg/s, deg, A, deg*s...),
+    ``torque_nm`` the actuator torque and ``friction_nm`` the friction torque [N*m], ``theta_ref``
+    [deg] and ``v_ref`` [deg/s] the reference. All are scalars; what the function does not read
+    is not computed.
+    """
+
+    index: Int[Array, ""]
+    t: Float[Array, ""]
+    y: tuple
+    torque_nm: Float[Array, ""]
+    friction_nm: Float[Array, ""]
+    theta_ref: Float[Array, ""]
+    v_ref: Float[Array, ""]
+
+    def _component(self, k):
+        return self.y[k]
+
+
+class SampleMean(eqx.Module):
+    """What :func:`simulate` returns with ``SaveAt(mean=fn)``: the mean of ``fn`` over every sample.
+
+    ``value`` has ``fn``'s pytree structure, each leaf with a leading batch axis when batched;
+    ``result`` is the per-lane result code (0 = ok). A failed lane's value is meaningless (often
+    NaN): use :meth:`or_inf` for a loss, so that a failed run is infinitely bad.
+    """
+
+    value: PyTree
+    result: Int[Array, "*b"]
+
+    @property
+    def ok(self):
+        return self.result == RESULT_OK
+
+    def or_inf(self):
+        """``value`` where the lane succeeded, ``+inf`` where it failed (leaf by leaf)."""
+        ok = self.ok
+        return jax.tree.map(lambda v: jnp.where(ok.reshape(ok.shape + (1,) * (v.ndim - ok.ndim)), v, jnp.inf),
+                            self.value)
+
+
+def trajectory_loss(sol: Solution, reduce) -> Array:
+    """``reduce(sol)`` where the lane succeeded, ``+inf`` where it failed: failed runs are infinitely bad."""
+    val = reduce(sol)
+    return jnp.where(sol.result == RESULT_OK, val, jnp.inf)

@@ -1,0 +1,132 @@
+"""Choices of a simulation, as objects (in the manner of diffrax's solvers, step-size controllers
+and ``SaveAt``): how to step (:class:`FixedStep`, :class:`Adaptive`), what to keep
+(:class:`SaveAt`) and how to spread a batch over chunks and devices (:class:`Lanes`)."""
+
+from __future__ import annotations
+
+import abc
+from typing import Callable
+
+import diffrax
+import equinox as eqx
+
+
+class AbstractStepping(eqx.Module):
+    """How the ODE is stepped: :class:`FixedStep` or :class:`Adaptive`."""
+
+    solver: eqx.AbstractVar[diffrax.AbstractSolver]
+
+    @abc.abstractmethod
+    def describe(self) -> str:
+        ...
+
+
+class FixedStep(AbstractStepping):
+    """A constant step ``dt`` [s] of an explicit Runge-Kutta ``solver`` (any diffrax solver with a
+    Butcher tableau: ``Tsit5``, ``Bosh3``, ``Heun``, ``Ralston``, ``Midpoint``, ``Dopri5``).
+
+    The fast choice for batches: every lane costs the same and the stages are unrolled into one
+    vectorised loop. Its accuracy is the user's to choose: check it with
+    :func:`lugre_jax.check_stepping`, which re-solves a few lanes adaptively. A ``dt`` shorter
+    than the sample period is rounded down to divide it; a longer one must be a whole multiple of
+    it (samples between steps are cubic-Hermite interpolated). Discontinuities of the reference
+    that fall between steps (e.g. a staircase whose steps are off the step grid) cost first-order
+    local error there; the :class:`Adaptive` default lands on them.
+    """
+
+    solver: diffrax.AbstractSolver = eqx.field(static=True, default_factory=diffrax.Tsit5)
+    dt: float = eqx.field(static=True, default=2.5e-3)
+
+    def __check_init__(self):
+        if not isinstance(self.solver, diffrax.AbstractERK) or not hasattr(self.solver, "tableau"):
+            raise ValueError(f"FixedStep needs an explicit Runge-Kutta diffrax solver (Tsit5, Bosh3, Heun, "
+                             f"Ralston, Midpoint, Dopri5), got {type(self.solver).__name__}")
+        if not (isinstance(self.dt, (int, float)) and self.dt > 0):
+            raise ValueError(f"FixedStep.dt must be a positive step in seconds, got {self.dt!r}")
+
+    @property
+    def evals_per_step(self) -> int:
+        """Right-hand-side evaluations per step (an FSAL tableau's last stage is the next k0)."""
+        tableau = self.solver.tableau
+        return len(tableau.a_lower) + (0 if tableau.fsal else 1)
+
+    def describe(self) -> str:
+        return f"FixedStep({type(self.solver).__name__}(), dt={self.dt!r})"
+
+
+class Adaptive(AbstractStepping):
+    """Error-controlled stepping: diffrax ``solver`` (default the stiff ESDIRK ``Kvaerno5``) with a
+    PID step-size controller at ``rtol``/``atol``, stepping exactly onto the reference's
+    discontinuities (``jump_ts``), at most ``max_steps`` steps, ``dtmax`` [s] the largest step.
+    ``adjoint`` is diffrax's: the default differentiates in reverse mode (``jax.grad``); pass
+    ``diffrax.ForwardMode()`` for ``jax.jacfwd`` (e.g. Levenberg-Marquardt's Jacobians).
+
+    The default of :func:`simulate`. With the defaults, position agrees with a stiff scipy
+    reference (LSODA, rtol 1e-11) to 1e-6 deg and torque to 1e-4 N*m on staircases with steps on
+    and off the sample grid, ramps and sines (``tests/test_simulate_reference.py``). A lane whose
+    solve fails reports :data:`RESULT_SOLVER_FAILED` (``throw=False``); under ``vmap`` every lane
+    takes the slowest lane's steps.
+    """
+
+    solver: diffrax.AbstractSolver = eqx.field(static=True, default_factory=diffrax.Kvaerno5)
+    rtol: float = eqx.field(static=True, default=1e-8)
+    atol: float = eqx.field(static=True, default=1e-10)
+    max_steps: int = eqx.field(static=True, default=200_000)
+    dt0: float = eqx.field(static=True, default=1e-4)
+    dtmax: float = eqx.field(static=True, default=0.02)
+    adjoint: diffrax.AbstractAdjoint = eqx.field(static=True, default_factory=diffrax.RecursiveCheckpointAdjoint)
+
+    def __check_init__(self):
+        if not isinstance(self.solver, diffrax.AbstractAdaptiveSolver):
+            raise ValueError(f"Adaptive needs an adaptive diffrax solver (e.g. Kvaerno5, Tsit5), got "
+                             f"{type(self.solver).__name__}")
+        for name in ("rtol", "atol", "dt0", "dtmax"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and v > 0):
+                raise ValueError(f"Adaptive.{name} must be a positive number, got {v!r}")
+        if not (isinstance(self.max_steps, int) and self.max_steps > 0):
+            raise ValueError(f"Adaptive.max_steps must be a positive integer, got {self.max_steps!r}")
+
+    def describe(self) -> str:
+        return (f"Adaptive({type(self.solver).__name__}(), rtol={self.rtol!r}, atol={self.atol!r}, "
+                f"max_steps={self.max_steps!r})")
+
+
+class SaveAt(eqx.Module):
+    """What :func:`simulate` returns for each lane (as diffrax's ``SaveAt``).
+
+    * ``SaveAt()``: the whole :class:`Solution` at every sample.
+    * ``SaveAt(fn=f)``: ``f(solution)`` of each lane, computed inside the jitted call (e.g. a loss
+      or a control metric), so memory no longer grows with the number of samples. The lane's
+      ``Solution.result`` is visible to ``f``: combine with :func:`trajectory_loss`.
+    * ``SaveAt(mean=g)``: a :class:`SampleMean`, the mean of ``g(sample)`` over every sample,
+      accumulated inside the time loop: nothing of the trajectory is stored, and a gradient's
+      backward pass reads no trajectory of cotangents; the fast path for losses that are means over
+      samples (``Sample.index`` looks up measured data).
+    """
+
+    fn: Callable | None = eqx.field(static=True, default=None)
+    mean: Callable | None = eqx.field(static=True, default=None)
+
+    def __check_init__(self):
+        if self.fn is not None and self.mean is not None:
+            raise ValueError("SaveAt: give fn (a function of the whole Solution) or mean (a function of "
+                             "one Sample, averaged over samples), not both")
+        for name in ("fn", "mean"):
+            f = getattr(self, name)
+            if f is not None and not callable(f):
+                raise ValueError(f"SaveAt.{name} must be a function, got {type(f).__name__}")
+
+
+class Lanes(eqx.Module):
+    """How a batched call spreads its lanes: ``chunk_size`` lanes at a time (``lax.map`` over
+    ``vmap``-ed chunks, so memory stays bounded; ``None``: a default that keeps a step's working set
+    in cache) and over host devices (``shard``: ``True`` always, ``False`` never, ``None`` when the
+    call has enough work to pay for the split; see docs/performance.md)."""
+
+    chunk_size: int | None = eqx.field(static=True, default=None)
+    shard: bool | None = eqx.field(static=True, default=None)
+
+    def __check_init__(self):
+        if self.chunk_size is not None and not (isinstance(self.chunk_size, int) and self.chunk_size > 0):
+            raise ValueError(f"Lanes.chunk_size must be a positive integer or None, got {self.chunk_size!r}")
