@@ -14,6 +14,7 @@ from ._metrics import (
     StickSlip as StickSlip,
     TrackingError as TrackingError,
 )
+from ._paths import batch_system as batch_system
 from ._problem import check_problem as check_problem
 from ._runner import (
     STATUS_FAILED as STATUS_FAILED,

@@ -75,9 +75,10 @@ def parse_path(text: str, system, where: str) -> Path:
     return Path(text, tuple(steps), element, bounds, field_meta.get("unit") if field_meta else None)
 
 
-def batch_system(system, paths: list[Path], X):
-    """``system`` repeated for each row of ``X`` (n, D) with column ``i`` written at ``paths[i]``:
-    every array leaf gets a leading axis of n (as batched ``simulate`` needs)."""
+def batch_system(system, paths, X):
+    """``system`` repeated for each row of ``X`` (n, D) with column ``i`` written at ``paths[i]``
+    (``SweepSpec.paths``): every array leaf gets a leading axis of n (as batched ``simulate`` needs).
+    One array per leaf, not a Python object per point."""
     n = X.shape[0]
     X = jnp.asarray(X)
     out = broadcast_system(system, n)
