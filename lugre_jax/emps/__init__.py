@@ -25,6 +25,7 @@ from ._models import (
     MODELS as MODELS,
     AbstractEmpsModel as AbstractEmpsModel,
     AsymmetricCoulombViscous as AsymmetricCoulombViscous,
+    AsymmetricLuGreRipple as AsymmetricLuGreRipple,
     AsymmetricRipple as AsymmetricRipple,
     CoulombViscous as CoulombViscous,
     LuGre as LuGre,

@@ -12,8 +12,10 @@ at reversals and gives no useful gradient; 0.1 mm/s is below the velocity resolu
 filter at 1 kHz (encoder step 50 nm -> 25 um/s) times a few, so the fitted Coulomb level is the
 benchmark's. ``v_eps`` is a static field, not identified.
 
-LuGre reuses :class:`lugre_jax.friction.LuGre` (unit-agnostic math): its ``g(v)`` gives the
-exact-exponential bristle update the simulator uses (see ``_simulate``).
+Laws with a bristle state give :meth:`AbstractEmpsModel.bristle_terms` (``sigma0``, ``sigma1``,
+the Stribeck level ``g(v)`` and the non-bristle force), from which the simulator builds both the
+LuGre right-hand side and its exact-exponential bristle update (see ``_simulate``). :class:`LuGre`
+takes ``g`` from :class:`lugre_jax.friction.LuGre` (unit-agnostic math).
 """
 
 from __future__ import annotations
@@ -45,13 +47,14 @@ class AbstractEmpsModel(eqx.Module):
     has_state: ClassVar[bool] = False
     label: ClassVar[str] = ""
 
-    @abc.abstractmethod
     def friction(self, q, v, z):
-        """Friction force [N] opposing motion (offset included) for a static law, or the
-        Stribeck level ``g(v)`` [N] for a law with state (see :meth:`lugre_law`)."""
+        """Friction force [N] opposing motion, offset included (static laws)."""
+        raise NotImplementedError(f"{type(self).__name__} has a bristle state: see bristle_terms")
 
-    def lugre_law(self) -> _LuGreLaw | None:
-        return None
+    def bristle_terms(self, q, v):
+        """Laws with state: ``(sigma0 [N/m], sigma1 [N*s/m], g(v) [N], other force [N])`` so that
+        ``dz/dt = v - sigma0*|v|*z/g`` and ``F = sigma0*z + sigma1*dz/dt + other``."""
+        raise NotImplementedError(f"{type(self).__name__} is a static law: see friction")
 
     # -- parameter helpers (the single declaration is the ``param`` fields) -----------------
     @classmethod
@@ -91,10 +94,10 @@ class AbstractEmpsModel(eqx.Module):
 
     def z_sliding(self, v):
         """Bristle state in steady sliding at ``v`` (initial state of a simulation)."""
-        law = self.lugre_law()
-        if law is None:
+        if not self.has_state:
             return jnp.zeros_like(jnp.asarray(v))
-        return _sgn(v, V_EPS) * law.g(v) / law.sigma0
+        s0, _, g, _ = self.bristle_terms(jnp.zeros_like(jnp.asarray(v)), v)
+        return _sgn(v, V_EPS) * g / s0
 
 
 class CoulombViscous(AbstractEmpsModel):
@@ -174,8 +177,8 @@ class LuGre(AbstractEmpsModel):
     def lugre_law(self):
         return _LuGreLaw(self.Fc, self.Fs, self.vs, self.Fv, self.sigma0, self.sigma1)
 
-    def friction(self, q, v, z):
-        return self.lugre_law().g(v)
+    def bristle_terms(self, q, v):
+        return self.sigma0, self.sigma1, self.lugre_law().g(v), self.Fv * v + self.offset
 
     @classmethod
     def reference(cls):
@@ -210,5 +213,43 @@ class AsymmetricRipple(AbstractEmpsModel):
         return cls(95.1540, 166.71, 20.14, 240.42, 20.63, 0.0, 0.0, 2.47e-3)
 
 
+class AsymmetricLuGreRipple(AbstractEmpsModel):
+    """The richest law here, a dozen parameters: LuGre bristles whose Coulomb level and viscous
+    coefficient depend on the direction (``Fc+``/``Fc-``, ``Fv+``/``Fv-``, shared ``Fs``, ``vs``),
+    plus the position ripple of :class:`AsymmetricRipple`. No offset: with direction-dependent
+    Coulomb levels it is redundant (as in the benchmark's asymmetric script)."""
+
+    label: ClassVar[str] = "asymmetric_lugre_ripple"
+    has_state: ClassVar[bool] = True
+    json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}
+    M: jnp.ndarray = param("kg", 50.0, 200.0)
+    Fv_pos: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
+    Fc_pos: jnp.ndarray = param("N", 0.0, 100.0)
+    Fv_neg: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
+    Fc_neg: jnp.ndarray = param("N", 0.0, 100.0)
+    Fs: jnp.ndarray = param("N", 0.0, 100.0)
+    vs: jnp.ndarray = param("m/s", 1e-4, 0.05)
+    sigma0: jnp.ndarray = param("N/m", 1e4, 1e8)
+    sigma1: jnp.ndarray = param("N*s/m", 0.0, 2e4)
+    a_sin: jnp.ndarray = param("N", -10.0, 10.0)
+    a_cos: jnp.ndarray = param("N", -10.0, 10.0)
+    period: jnp.ndarray = param("m", 2.3e-3, 2.65e-3)
+
+    def bristle_terms(self, q, v):
+        s = _sgn(v, V_EPS)
+        wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
+        fc = wp * self.Fc_pos + wn * self.Fc_neg
+        x = v * (1.0 / self.vs)
+        g = fc + (self.Fs - fc) * jnp.exp(-x * x)
+        w = 2 * jnp.pi * q * (1.0 / self.period)
+        other = ((wp * self.Fv_pos + wn * self.Fv_neg) * v
+                 + self.a_sin * jnp.sin(w) + self.a_cos * jnp.cos(w))
+        return self.sigma0, self.sigma1, g, other
+
+    @classmethod
+    def reference(cls):
+        return cls(95.1540, 166.71, 20.14, 240.42, 20.63, 24.0, 0.005, 2e6, 1e3, 0.0, 0.0, 2.47e-3)
+
+
 MODELS: tuple[type[AbstractEmpsModel], ...] = (
-    CoulombViscous, AsymmetricCoulombViscous, Stribeck, LuGre, AsymmetricRipple)
+    CoulombViscous, AsymmetricCoulombViscous, Stribeck, LuGre, AsymmetricRipple, AsymmetricLuGreRipple)

@@ -42,12 +42,12 @@ class AbstractStepping(eqx.Module):
 
 def _rhs(model: AbstractEmpsModel, x, u):
     q, v, z = x
-    law = model.lugre_law()
-    if law is None:
+    if not model.has_state:
         F, dz = model.friction(q, v, z), jnp.zeros_like(z)
     else:
-        F, dz = law.torque_and_derivative(z, v)
-        F = F + model.offset
+        s0, s1, g, other = model.bristle_terms(q, v)
+        dz = v - s0 * jnp.abs(v) * z / g  # |v|*z, never v/|v|
+        F = s0 * z + s1 * dz + other
     return jnp.stack([v, (u - F) * (1.0 / model.M), dz])
 
 
@@ -92,13 +92,13 @@ class ExponentialMidpoint(AbstractStepping):
 
     def advance(self, model, x, u, T):
         h = T / self.substeps
-        law = model.lugre_law()
         invM = 1.0 / model.M
 
         def force(q, z, vf):
-            if law is None:
+            if not model.has_state:
                 return model.friction(q, vf, z), z
-            a = law.sigma0 * jnp.abs(vf) / law.g(vf)  # |v|*z form: no v/|v|
+            s0, s1, g, other = model.bristle_terms(q, vf)
+            a = s0 * jnp.abs(vf) / g  # |v|*z form: no v/|v|
             ah = a * h
             small = ah < 1e-8
             ahs = jnp.where(small, 1.0, ah)
@@ -106,7 +106,7 @@ class ExponentialMidpoint(AbstractStepping):
             z1 = z * jnp.exp(-ah) + vf * h * phi
             # substep mean of z: z*phi + (v/a)*(1 - phi), -> z + v*h/2 as a*h -> 0
             zbar = jnp.where(small, z + 0.5 * vf * h, z * phi + vf * h * (1.0 - phi) / ahs)
-            F = law.sigma0 * zbar + law.sigma1 * (z1 - z) * (1.0 / h) + law.sigma2 * vf + model.offset
+            F = s0 * zbar + s1 * (z1 - z) * (1.0 / h) + other
             return F, z1
 
         def body(i, y):

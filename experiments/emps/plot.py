@@ -1,0 +1,56 @@
+"""Summary figure of the EMPS study from ``<results>/RESULT.json``: per model, the closed-loop force
+error and the benchmark-protocol RMSE on the held-out part (or the validation run), beside the
+published anchors (closed-loop force 5.85 % on the estimation run, 8.94 % on the validation run;
+neural state-space model ~8 mm on the validation run) and our simulation of the published model.
+
+    python experiments/emps/plot.py [--results experiments/emps/results]
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import results_for_plot  # noqa: E402
+
+
+def main(argv=None):
+    res = results_for_plot(__doc__, Path(__file__).resolve().with_name("results"), ("RESULT.json",), argv)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from lugre_jax.io import save_figure
+
+    j = json.loads((res / "RESULT.json").read_text())
+    run = "validation" if j["validation"] else "held_out"
+    names = list(j["models"])
+    force = [j["models"][n]["runs"][run]["closed_loop"]["force_pct"] for n in names]
+    rmse = [j["models"][n]["runs"][run]["benchmark"]["rmse_mm"] for n in names]
+    ref = j["published_model_simulated"]["symmetric"]
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    ax[0].bar(names, force, color="tab:blue")
+    ax[0].axhline(5.85, color="r", ls="--", label="published closed loop, estimation run (5.85 %)")
+    ax[0].axhline(ref["closed_loop"][run]["force_pct"], color="k", ls=":",
+                  label=f"published model in our simulation ({ref['closed_loop'][run]['force_pct']:.2f} %)")
+    ax[0].set_ylabel(f"closed-loop force error, {run} [%]")
+    ax[0].legend(fontsize=8)
+    ax[1].bar(names, rmse, color="tab:green")
+    ax[1].axhline(8.0, color="r", ls="--", label="neural state-space model, validation run (~8 mm)")
+    ax[1].axhline(ref["benchmark"][run]["rmse_mm"], color="k", ls=":",
+                  label=f"published model ({ref['benchmark'][run]['rmse_mm']:.2f} mm)")
+    ax[1].set_ylabel(f"benchmark protocol RMSE, {run} [mm]")
+    ax[1].legend(fontsize=8)
+    for a in ax:
+        a.tick_params(axis="x", rotation=20)
+    fig.tight_layout()
+    save_figure(fig, res / "summary.png")
+    print(f"wrote {res / 'summary.png'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
