@@ -406,8 +406,7 @@ def scipy_jaxrhs_loop_time(n, rtol, atol):
 def _cheapest_within(rows, scipy_row, k=2):
     """Our ``k`` cheapest fixed-step configurations (by RHS evaluations) whose position *and*
     velocity errors are no larger than scipy's. Both are timed: fewer evaluations is not always
-    faster (measured: Bosh3 at 20 ms, 3,000 evaluations, ran no faster than Heun at 10 ms, 4,000,
-    in an A/B in one process)."""
+    faster (docs/performance.md)."""
     ok = [r for r in rows if r["theta_err_deg"] <= scipy_row["theta_err_deg"]
           and r["omega_err_deg_s"] <= scipy_row["omega_err_deg_s"]]
     if not ok:

@@ -7,22 +7,19 @@ by rounding (XLA contracts fused and stored expressions into multiply-adds diffe
 relative, tested).
 
 * :func:`stored_once` divides a value *and* its derivative: used on the stage inputs of an explicit
-  Runge-Kutta step, which every later stage reads (see ``_simulate._rk_step``).
+  Runge-Kutta step, which every later stage reads (see ``_simulation._fixed.rk_step``).
 * :func:`derivative_stored_once` leaves the value alone (a forward solve compiles exactly as without
   it) and divides only its tangent. Under reverse mode the transpose of that division divides the
   cotangent, so a cotangent that many kernels of the backward pass read is computed once. Sites
   (chosen by a greedy search over the compiled backward step): the joint's net torque and dz/dt
-  per stage, LuGre's g(v), samples interpolated between steps. Measured on the benchmark joint (one
-  LuGre segment, Bosh3 at 20 ms, 20 s, loss reduced in the time loop), with and without the sites:
-  the backward step 695 -> 452 fused ops (31 instead of 21 divisions); the gradient of 1,000 lanes
-  (map_lanes, one core) 15.5-15.7 -> 14.2-14.5 ms; with the loss read from stored trajectories the
-  backward step 762 -> 536 ops. Forward mode pays one division per tangent per site: unchanged at
-  batch 1, 3-8 % slower at 100 lanes (where reverse mode is the cheaper mode).
+  per stage, LuGre's g(v), samples interpolated between steps. It shrinks the compiled backward
+  step by about a third (``tests/test_simulate.py`` checks the op counts); forward mode pays one
+  division per tangent per site. Effects on run time: docs/performance.md, "Fusion barriers".
 
 A value or tangent that is NaN stays NaN: the runtime 1.0 is NaN exactly where its lane has already
 failed, which is also what keeps XLA from folding it to a constant. It must be a per-lane value: a
-division by a broadcast scalar is rewritten by XLA into a multiplication (measured: all such
-barriers vanished and the backward step grew from 576 to 2,125 ops).
+division by a broadcast scalar is rewritten by XLA into a multiplication, and every barrier
+vanishes.
 """
 
 from __future__ import annotations
@@ -41,10 +38,8 @@ def stored_once(y: tuple, one) -> tuple:
 
     A stage input of an explicit RK step feeds its own right-hand side and every later stage; fused,
     the later stages recomputed the earlier ones. ``lax.optimization_barrier`` does not prevent this
-    on CPU (XLA removes it before fusion). Measured on the benchmark's three-segment joint (Bosh3,
-    20 ms): the compiled program's fused kernels hold 658 arithmetic ops instead of 948, and one
-    core runs 1,000 lanes at 31,000 instead of 22,000 simulations/s. Tsit5 at 2.5 ms became 2.7x
-    faster and reverse-mode gradients 2.2x faster.
+    on CPU (XLA removes it before fusion). The compiled step holds about a third fewer arithmetic
+    ops with it (docs/performance.md, "Fusion barriers").
     """
     return tuple(c / one for c in y)
 
@@ -55,7 +50,7 @@ def derivative_stored_once(x, one):
 
     ``one`` is :func:`runtime_one` of a value the caller's kernels already hold (a state component),
     not of ``x``: the kernel that divides the cotangent would otherwise recompute ``x`` only to test
-    it for NaN (measured: 36 more ops per backward step when ``one`` came from the net torque).
+    it for NaN.
     """
     return x
 

@@ -93,8 +93,8 @@ def _velocity_pid(kp, ki, kd, tf, e, xi, xd):
     if isinstance(kd, (int, float)) and kd == 0:
         # A PI controller (a static kd = 0, the default) has no derivative term, so its filter
         # state is not integrated: it stays at its initial value. Integrating it anyway cost every
-        # step the filter's arithmetic and its Runge-Kutta stages (measured: 15 % of a one-segment
-        # batched solve) for a state that no output depends on.
+        # step the filter's arithmetic and its Runge-Kutta stages for a state that no output
+        # depends on.
         return kp * e + ki * xi, e, jnp.zeros_like(e)
     # Derivative through a first-order filter (time constant tf): the ideal derivative of a velocity
     # error needs the acceleration, which depends on this very command (an algebraic loop).

@@ -68,8 +68,8 @@ def presliding_step(friction: AbstractFrictionModel, J: float, step_nm: float, *
         raise ValueError(f"step_nm must be a positive torque below breakaway, got {step_nm!r}")
     sys_ = System(friction=friction, joint=Joint(J=J), controller=OpenLoop(bias=float(step_nm)),
                   reference=VelocitySteps([0.0]))
-    # The fixed-step path agrees with the adaptive Kvaerno5 one to 1e-6 relative here (measured) and
-    # compiles 3x faster.
+    # The fixed-step path agrees with the adaptive Kvaerno5 one to 1e-6 relative here and compiles
+    # faster.
     sol = simulate(sys_, duration_s, sample_hz, stepping=FixedStep())
     if int(sol.result) != 0:
         raise ValueError(f"pre-sliding simulation failed (result {int(sol.result)}); shorten duration_s or the step")

@@ -8,7 +8,7 @@ from one pre-sliding step (eq. 17) and sigma1 from a rule of thumb (eq. 18).
   ``noise_deg``. Residuals ``r(p) = (theta_model(p) - theta_meas)/noise_deg``.
 * Fit: optimistix Levenberg-Marquardt on ``log p`` (positivity), Jacobian by forward mode
   (``jax.jacfwd`` / ``jac="fwd"``): for <= 10 parameters one forward pass per parameter is cheaper
-  than reverse mode through a long ``lax.scan`` (measured by the simulator's author).
+  than reverse mode through a long ``lax.scan`` (docs/performance.md, "Derivatives").
 * Uncertainty: Fisher information ``F = J^T J`` of the whitened residuals at the estimate, standard
   errors ``sqrt(diag(F^-1))`` (Cramer-Rao bound for unbiased estimators); an eigenvalue of ``F`` near
   zero (relative SE >> 1) means the recording does not determine that direction.

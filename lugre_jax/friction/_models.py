@@ -16,11 +16,10 @@ does not care which it holds:
 * ``torque(z, v)`` and ``derivative(z, v)``: either half of it, for readers of one quantity.
 
 Why one combined evaluation: the torque and ``dz/dt`` share the Stribeck function and its
-exponential. Evaluated separately, XLA's CPU fusion computed that shared part once per consumer
-(measured: 6 exponentials per right-hand side of the segmented model instead of 3, and ~2x the
-cost of a simulation step). Divisions by parameters are written as multiplications by their
-reciprocal: the reciprocal is loop-invariant, so XLA hoists it out of the time loop, and a float64
-division costs ~10x a multiplication on the AVX-512 cores we measured.
+exponential. Evaluated separately, XLA's CPU fusion computes that shared part once per consumer.
+Divisions by parameters are written as multiplications by their reciprocal: the reciprocal is
+loop-invariant, so XLA hoists it out of the time loop, and a float64 division costs several
+multiplications (docs/performance.md).
 """
 
 from __future__ import annotations
@@ -44,8 +43,8 @@ def _stribeck_g(v, Fc, Fs, vs, delta):
     x = jnp.abs(v) * (1.0 / jnp.maximum(vs, _TINY))
     if isinstance(delta, (int, float)):
         # A Python-number exponent is static: the paper's delta = 2 becomes x*x. The general
-        # exp(delta*log x) costs a log and an exp per evaluation and, measured, blocks XLA's
-        # vectorisation of the whole fused right-hand side (4x slower simulations).
+        # exp(delta*log x) costs a log and an exp per evaluation and blocks XLA's vectorisation of
+        # the whole fused right-hand side.
         xd = x * x if delta == 2 else x**delta
     else:
         # Traced exponent (e.g. fitted): guard 0**delta, whose d/d(delta) would be 0*log(0).
@@ -213,8 +212,8 @@ class Segmented(AbstractFrictionModel):
         # Neighbouring segments are blended with a C1 smoothstep over |v| in
         # [edge*(1-blend), edge*(1+blend)]. A hard switch makes the vector field discontinuous in
         # velocity (sigma1 and sigma0 jump at the edges), and a stick-slip trajectory can then slide
-        # along |v| = edge, a Filippov sliding mode that stalls every adaptive solver (measured:
-        # Radau and Kvaerno5 give up at v = 0.05 deg/s). blend = 0 restores the hard switch.
+        # along |v| = edge, a Filippov sliding mode that stalls adaptive solvers (Radau and Kvaerno5
+        # give up at v = 0.05 deg/s). blend = 0 restores the hard switch.
         # ``fn(segment, (c, 1/c))`` may return a pytree (torque and dz/dt blend in one pass).
         a = jnp.abs(jnp.asarray(v))
         scales = self._scales()

@@ -30,7 +30,7 @@ Units are the paper's: deg, deg/s, N*m, s. Schema (``?`` = optional)::
 (piecewise linear; a repeated time is a step). ``solver`` becomes a stepping object:
 ``"adaptive"`` -> :class:`lugre_jax.Adaptive` (``name`` one of kvaerno5, kvaerno3, tsit5, dopri5;
 ``rtol``, ``atol``, ``max_steps``), ``"fixed"`` -> :class:`lugre_jax.FixedStep` (``name`` one of
-tsit5, bosh3, heun, ralston, midpoint, dopri5; ``dt`` [s], default 2.5 ms or the sample period if
+tsit5, bosh3, heun, ralston, midpoint, dopri5; ``dt`` [s], default 2.5e-3 s or the sample period if
 shorter). Without a ``solver`` section the scenario is solved adaptively (correct by default).
 """
 

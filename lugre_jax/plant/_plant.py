@@ -67,7 +67,7 @@ class DCMotor(AbstractActuator):
     The paper gives none of these constants. Defaults (see :data:`MOTOR_ASSUMPTIONS`) are those of a
     plausible 24 V, ~100 W brushed/brushless DC motor with a 160:1 harmonic or planetary reducer,
     chosen so that the largest torque of Table 1 (~6.5 N*m) needs under 1 A and so that the
-    electrical time constant L/R = 0.25 ms is far below the mechanical one, as the paper assumes.
+    electrical time constant L/R = 2.5e-4 s is far below the mechanical one, as the paper assumes.
     """
 
     R: Float[Array, "*b"] = param("ohm", 1e-3, 100.0, default=2.0)
@@ -120,7 +120,7 @@ class DCMotor(AbstractActuator):
 
 MOTOR_ASSUMPTIONS = {
     "R": (2.0, "ohm", "armature resistance of a 24 V, ~100 W DC motor"),
-    "L": (5.0e-4, "H", "armature inductance; L/R = 0.25 ms << mechanical time constant"),
+    "L": (5.0e-4, "H", "armature inductance; L/R = 2.5e-4 s << mechanical time constant"),
     "Ke": (0.05, "V*s/rad", "back-EMF constant at the motor shaft (= Km in SI units)"),
     "Km": (0.05, "N*m/A", "torque constant at the motor shaft"),
     "gear_ratio": (160.0, "1", "reducer ratio; the paper says only that a reducer is used"),
