@@ -29,7 +29,7 @@ from ._optimiser import AbstractOptimiser
 def _evosax():
     # Imported on first use: importing evosax.algorithms creates arrays, which starts the XLA
     # backend -- at package import that would freeze the host device count before the CLI can set
-    # it (measured: `lugre-jax bench` then saw one device instead of two).
+    # it (`lugre-jax bench` then saw one device instead of two).
     from evosax import algorithms
 
     return algorithms

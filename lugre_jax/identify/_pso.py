@@ -58,9 +58,9 @@ def hash_uniform(key: PRNGKeyArray, shape: tuple[int, ...]) -> Float[Array, "...
     """Uniform [0, 1) float64 numbers (24 random bits each) from a counter hash seeded by ``key``.
 
     Two 32-bit words from ``key`` (one threefry call) seed two rounds of the MurmurHash3 finaliser
-    over a counter. Not a cryptographic generator; good enough for PSO's acceleration coefficients
-    and about ten times cheaper than one threefry draw per number, which dominates PSO's own cost
-    when the loss is cheap.
+    over a counter. Not a cryptographic generator; good enough for PSO's acceleration coefficients,
+    and far cheaper than one threefry draw per number, which dominates PSO's own cost when the loss
+    is cheap (docs/identification.md, "Speed of the PSO").
     """
     seed = jax.random.bits(key, (2,), dtype=jnp.uint32)
     n = 1
