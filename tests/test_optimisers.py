@@ -157,6 +157,8 @@ def test_one_loop_for_objects_and_names_and_the_record(tmp_path):
     b = optimise(PSO(n_particles=10, max_steps=4), shifted_sphere, LO3, HI3, key=KEY, n_seeds=2)
     np.testing.assert_array_equal(a.history, b.history)
     assert a.steps == 4 and a.history.shape == (2, 5) and a.n_evals[0] == 10 * 5
+    g = optimise("gapso", shifted_sphere, LO3, HI3, key=KEY, max_steps=2, ga_steps=1, pso={"n_particles": 20})
+    assert g.steps == 2 and g.n_evals[0] == 20 + 2 * (20 + 19 + 20)  # max_steps is the swarm's
     write_json(tmp_path / "r.json", a.to_json())
     d = json.loads((tmp_path / "r.json").read_text())
     assert d["steps"] == 4 and d["settings"]["max_steps"] == 4 and d["method"] == "pso"
@@ -289,6 +291,8 @@ def test_bad_input_raises_helpful_errors():
         optimise("pso", shifted_sphere, LO3, HI3, key=KEY, n_iterations=3)
     with pytest.raises(ValueError, match=r"renamed: generations -> max_steps"):
         optimise("gapso", shifted_sphere, LO3, HI3, key=KEY, ga={"generations": 3})
+    with pytest.raises(ValueError, match="give max_steps once"):
+        optimise("gapso", shifted_sphere, LO3, HI3, key=KEY, max_steps=3, pso={"max_steps": 4})
     with pytest.raises(ValueError, match="on the optimiser object"):
         optimise(PSO(), shifted_sphere, LO3, HI3, key=KEY, max_steps=3)
     with pytest.raises(ValueError, match="finite"):

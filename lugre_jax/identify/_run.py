@@ -111,14 +111,19 @@ def _build(cls, what: str, settings: dict[str, Any]):
 def make_optimiser(method: str, **settings: Any) -> AbstractOptimiser:
     """The optimiser object for ``method`` built from ``settings`` (constructor keywords).
 
-    For ``"gapso"``: ``ga=dict(...)``, ``pso=dict(...)`` and ``ga_steps=int``. Every optimiser's
-    iteration/generation count is ``max_steps``.
+    For ``"gapso"``: ``ga=dict(...)``, ``pso=dict(...)``, ``ga_steps=int`` and ``max_steps`` (the
+    hybrid's iterations, which are its swarm's: the same as ``pso=dict(max_steps=...)``). Every
+    optimiser's iteration/generation count is ``max_steps``.
     """
     if method == "gapso":
         settings = dict(settings)
+        pso = dict(settings.pop("pso", {}))
+        if "max_steps" in settings:
+            if "max_steps" in pso:
+                raise ValueError("gapso: give max_steps once, either directly or in pso=dict(max_steps=...)")
+            pso["max_steps"] = settings.pop("max_steps")
         return _build(GAPSO, method, dict(
-            settings, ga=_build(GA, "gapso's ga", settings.pop("ga", {})),
-            pso=_build(PSO, "gapso's pso", settings.pop("pso", {}))))
+            settings, ga=_build(GA, "gapso's ga", settings.pop("ga", {})), pso=_build(PSO, "gapso's pso", pso)))
     if method in _POPULATION:
         return _build(_POPULATION[method], method, settings)
     raise ValueError(f"unknown method {method!r}; choose one of {METHODS}")
