@@ -1,6 +1,7 @@
 """Baselines for the static identification of Li et al., Electronics 2020, 9, 284, section 4.2: CMA-ES
 (Hansen 2016, arXiv:1604.00772) and differential evolution (Storn & Price 1997), both from evosax
-0.3.2, wrapped in this package's ``init``/``step`` protocol (driven by ``minimise``); plus ``scipy.optimize.least_squares``.
+0.3.2, wrapped in this package's ``init``/``step`` protocol (driven by ``minimise``); plus
+``scipy.optimize.least_squares``.
 
 Bounds:
 

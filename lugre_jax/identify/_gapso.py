@@ -23,9 +23,9 @@ each step is here (the paper is terse; the reading is ours where marked):
 10. "Update velocity and position": ``pso.move`` (evaluates the whole swarm, updates bests).
 11. "Return to (3)": next iteration.
 
-Evaluations per iteration: ``pop_size + ga_steps * (pop_size - n_elite)`` for the GA part plus ``pso.n_particles`` for the move:
-with the paper's settings 20 + 20*19 + 100 = 500 per iteration, five times the PSO's 100. Compare
-the two per evaluation, not per iteration.
+Evaluations per iteration: ``pop_size + ga_steps * (pop_size - n_elite)`` for the GA part plus
+``pso.n_particles`` for the move: with the paper's settings 20 + 20*19 + 100 = 500 per iteration,
+five times the PSO's 100. Compare the two per evaluation, not per iteration.
 """
 
 from __future__ import annotations

@@ -90,7 +90,8 @@ class OptimResult:
             history=self.history.tolist(), evals_history=self.evals_history.tolist(),
             n_evals=self.n_evals.tolist(),
             wall_time_s=self.wall_time, compile_time_s=self.compile_time, refine_result=codes,
-            settings={k: v for k, v in self.settings.items() if isinstance(v, (str, int, float, bool, dict, type(None)))},
+            settings={k: v for k, v in self.settings.items()
+                      if isinstance(v, (str, int, float, bool, dict, type(None)))},
         )
 
 
@@ -104,7 +105,8 @@ def _build(cls, what: str, settings: dict[str, Any]):
     if unknown:
         renamed = [f"{k} -> {_RENAMED[k]}" for k in sorted(unknown) if k in _RENAMED and _RENAMED[k] in fields]
         hint = f" (renamed: {', '.join(renamed)})" if renamed else ""
-        raise ValueError(f"{what} ({cls.__name__}) accepts settings {sorted(fields)}; got unknown {sorted(unknown)}{hint}")
+        raise ValueError(f"{what} ({cls.__name__}) accepts settings {sorted(fields)}; "
+                         f"got unknown {sorted(unknown)}{hint}")
     return cls(**settings)
 
 
@@ -177,9 +179,10 @@ def optimise(
     * ``refine``: refine each seed's best point with ``refine_method`` (``"lm"`` or ``"bfgs"``,
       box-transformed; ``refine_settings`` go to :class:`Refine`: ``rtol``, ``atol``, ``max_steps``).
     * ``settings``: constructor keywords of the optimiser named by ``method`` (e.g.
-      ``n_particles=100, max_steps=100`` for PSO; ``ga={...}, pso={...}, ga_steps=1`` for GA-PSO). Local methods (``lm``,
-      ``bfgs``, ``scipy_lsq``) take ``x0`` (``(dim,)`` or ``(n_seeds, dim)``; default: uniform random
-      starts in the box, one per seed) and ``rtol``, ``atol``, ``max_steps`` (``max_nfev`` for scipy).
+      ``n_particles=100, max_steps=100`` for PSO; ``ga={...}, pso={...}, ga_steps=1`` for GA-PSO).
+      Local methods (``lm``, ``bfgs``, ``scipy_lsq``) take ``x0`` (``(dim,)`` or ``(n_seeds, dim)``;
+      default: uniform random starts in the box, one per seed) and ``rtol``, ``atol``,
+      ``max_steps`` (``max_nfev`` for scipy).
 
     Returns an :class:`OptimResult`. Raises ``ValueError`` for unknown methods or settings, bad
     bounds, or a missing ``residual_fn``.
@@ -201,7 +204,8 @@ def optimise(
     dim = lower.shape[0]
     if isinstance(method, AbstractOptimiser):
         if settings:
-            raise ValueError(f"settings {sorted(settings)} apply to a method name; set them on the optimiser object instead")
+            raise ValueError(f"settings {sorted(settings)} apply to a method name; "
+                             "set them on the optimiser object instead")
         opt, method = method, type(method).__name__
     elif method in _LOCAL or method == "scipy_lsq":
         opt = None
