@@ -21,9 +21,9 @@ SCENARIOS = {"fig08": sc.fig08, "fig09": sc.fig09, "fig10": sc.fig10, "fig12": s
 def seed_study(setup: Setup, data_path=None, n_seeds: int = 3) -> dict:
     """Dead zone at 0.005 deg/s of PSO- and GA-identified (whole) compensation for ``n_seeds`` extra
     optimiser seeds: how much of Fig. 10c is the algorithm and how much the seed."""
-    from ..dynamic._presliding import lugre_from_static, sigma1_eq18
+    from ..dynamic import lugre_from_static, sigma1_eq18
     from ..identify import identify
-    from ..io._stribeck_data import load_stribeck_csv
+    from ..io import load_stribeck_csv
     from ._setup import default_data_path
 
     data = load_stribeck_csv(default_data_path() if data_path is None else data_path)

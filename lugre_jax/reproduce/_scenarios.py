@@ -24,7 +24,7 @@ import jax
 import numpy as np
 
 from .. import metrics as M
-from .._simulation import Adaptive, FixedStep, System, simulate, stack_systems
+from .. import Adaptive, FixedStep, System, simulate, stack_systems
 from ..control import OpenLoop, PositionSine, VelocityPID, VelocityRamp, VelocitySteps
 from ..friction import LuGre, Segmented
 from ..plant import Joint

@@ -32,9 +32,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._simulation import FixedStep, System, simulate, stack_systems
+from .. import FixedStep, System, simulate, stack_systems
 from ..control import LuGreCompensated, PositionPID, VelocityPID, VelocitySteps
-from ..dynamic._presliding import lugre_from_static, presliding_step, sigma1_eq18
+from ..dynamic import lugre_from_static, presliding_step, sigma1_eq18
 from ..friction import AbstractFrictionModel, LuGre, Segmented
 from ..metrics import dead_zone_lag
 from ..plant import PAPER_J, Joint, paper_friction
@@ -139,7 +139,7 @@ def identify_observers(data_path, sigma0: float, J: float, *, quick: bool = Fals
     for tests; the default uses each optimiser's paper settings (section 4.2.3).
     """
     from ..identify import identify
-    from ..io._stribeck_data import load_stribeck_csv
+    from ..io import load_stribeck_csv
 
     data = load_stribeck_csv(data_path)
     # The observers use the accelerating branch only (Identification.friction_model); fitting the

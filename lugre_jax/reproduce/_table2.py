@@ -20,12 +20,19 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._simulation import FixedStep, System, simulate
+from .. import FixedStep, System, simulate
 from ..control import VelocityPID, VelocityRamp
-from ..dynamic._presliding import inertia_eq18, presliding_step, sigma1_eq18
-from ..dynamic._timeseries import design_grid, fit_dynamic, torque_sine_system, with_dynamics
+from ..dynamic import (
+    design_grid,
+    fit_dynamic,
+    inertia_eq18,
+    presliding_step,
+    sigma1_eq18,
+    torque_sine_system,
+    with_dynamics,
+)
 from ..plant import Joint
-from ..plant._paper import TABLE1, TABLE2, paper_inertia_per_segment
+from ..plant import TABLE1, TABLE2, paper_inertia_per_segment
 from ._setup import ENCODER_RES_DEG, Setup
 
 NOISE_DEG = 1e-4  # encoder-like measurement noise of the recordings [deg]
@@ -112,7 +119,7 @@ def excitation_design(setup: Setup, *, quick: bool = False, key=None) -> dict:
                       names=("sigma0_1", "sigma1_1"), max_steps=15 if quick else 40)
     # The paper's own kind of recording: the 0.005 deg/s velocity-PI step (Fig. 9c). Does it determine them?
     from ..control import VelocitySteps
-    from ..dynamic._timeseries import fisher_information, standard_errors_from_fisher
+    from ..dynamic import fisher_information, standard_errors_from_fisher
 
     def build_step(p):
         return System(friction=with_dynamics(plant, p[0], p[1], 0), joint=Joint(J=J),
