@@ -175,7 +175,7 @@ class LuGre(AbstractEmpsModel):
     offset: jnp.ndarray = param("N", -30.0, 30.0)
 
     def lugre_law(self):
-        return _LuGreLaw(self.Fc, self.Fs, self.vs, self.Fv, self.sigma0, self.sigma1)
+        return _LuGreLaw(Fc=self.Fc, Fs=self.Fs, vs=self.vs, sigma2=self.Fv, sigma0=self.sigma0, sigma1=self.sigma1)
 
     def bristle_terms(self, q, v):
         return self.sigma0, self.sigma1, self.lugre_law().g(v), self.Fv * v + self.offset

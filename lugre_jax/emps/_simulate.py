@@ -65,8 +65,9 @@ class RungeKutta(AbstractStepping):
         solver = self.solver
         if getattr(solver, "scan_kind", "") is None:
             # diffrax's default stage loop is a checkpointed while loop (custom VJP): it blocks the
-            # forward-mode Jacobian the least-squares fits use. A plain lax scan allows both modes.
-            solver = eqx.tree_at(lambda s: s.scan_kind, solver, "lax", is_leaf=lambda x: x is None)
+            # forward-mode Jacobian the least-squares fits use; "lax" blocks reverse mode. The
+            # bounded loop allows both.
+            solver = eqx.tree_at(lambda s: s.scan_kind, solver, "bounded", is_leaf=lambda x: x is None)
 
         def body(i, y):
             t0 = i * h
