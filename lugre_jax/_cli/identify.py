@@ -8,21 +8,24 @@ wall time) and optionally a PNG of the identified curve.
 
 from __future__ import annotations
 
-import argparse
+from ._args import HelpFormatter, plain
 
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "identify",
         help="identify static Stribeck parameters from steady-state data (whole or piecewise)",
-        description=__doc__,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description=plain(__doc__),
+        formatter_class=HelpFormatter,
     )
     p.add_argument("data", metavar="DATA", help="Stribeck CSV file or EPOS steady-state export folder")
-    p.add_argument("--method", default="gapso", choices=["ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm"])
-    p.add_argument("--scheme", default="piecewise", choices=["whole", "piecewise"])
+    p.add_argument("--method", default="gapso", choices=["ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm"],
+                   help="optimiser: the paper's GA, real-coded GA, PSO or hybrid GA-PSO; CMA-ES, differential "
+                        "evolution, or gradient least squares (lm)")
+    p.add_argument("--scheme", default="piecewise", choices=["whole", "piecewise"],
+                   help="one model over all velocities, or the paper's three velocity segments")
     p.add_argument("--model", default="stribeck", choices=["stribeck", "coulomb_viscous"],
-                   help="model for --scheme whole (default stribeck, eq. 10; coulomb_viscous is eq. 11)")
+                   help="model for --scheme whole (stribeck is eq. 10, coulomb_viscous is eq. 11)")
     p.add_argument("--refine", action="store_true", help="polish the best result with gradient least squares")
     p.add_argument("--seeds", type=int, default=1, help="independent optimiser runs (best is kept)")
     p.add_argument("--seed", type=int, default=0, help="base PRNG seed")
@@ -32,9 +35,10 @@ def add_parser(subparsers) -> None:
                    help="'paper' (Fc,Fs,sigma2 in [0,10], vs in [0,1]), 'auto' (scaled to the data) or NAME=LO:HI,...")
     p.add_argument("--edges", default=None, help="piecewise boundaries VMIN,VCRIT in deg/s (default: detected)")
     p.add_argument("--target", default="data", choices=["data", "sines"],
-                   help="fit the averaged data (default) or the eq. (12) sum-of-sines curves (the paper's route)")
-    p.add_argument("--out", required=True, metavar="RESULT.json")
-    p.add_argument("--plot", default=None, metavar="FIG.png")
+                   help="fit the averaged data, or the eq. (12) sum-of-sines curves (the paper's route)")
+    p.add_argument("--out", required=True, metavar="RESULT.json", help="result JSON to write")
+    p.add_argument("--plot", default=None, metavar="FIG.png", help="optional PNG of the identified curve")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def plot_identification(res, path) -> None:
@@ -69,47 +73,71 @@ def plot_identification(res, path) -> None:
     save_figure(fig, path)
 
 
+MIN_SET_POINTS = {"whole": 4, "piecewise": 8}  # 4 parameters per model; piecewise fits 3 segments
+
+
 def run(args) -> int:
+    import sys
+    import time
+
     import jax
+    import numpy as np
+    from tqdm.auto import tqdm
 
     from ..identify import identify
     from ..io import load_friction_data, write_json
+    from ._outputs import Outputs
 
     if args.seeds < 1:
         raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
-    data = load_friction_data(args.data)
-    if args.direction == "negative":
-        data = data.direction(-1)
+    if args.scheme == "piecewise" and args.model != "stribeck":
+        raise ValueError("--model applies to --scheme whole only (piecewise uses eq. 10 below and eq. 11 above v_crit)")
     edges = None
     if args.edges:
         try:
             edges = tuple(float(x) for x in args.edges.split(","))
         except ValueError:
             raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}") from None
-        if len(edges) != 2:
-            raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}")
-    if args.bounds in ("paper", "", None):
-        import sys
-
-        import numpy as np
-
-        vmax, tmax = float(np.max(np.abs(data.velocity))), float(np.max(np.abs(data.torque)))
-        if vmax > 10.0 or tmax < 1e-2:
-            print(f"lugre-jax identify: note: the data span up to {vmax:.4g} deg/s and {tmax:.4g} N*m, far from the "
-                  "paper's ranges (vs in [0, 1] deg/s, Fc, Fs in [0, 10] N*m); consider --bounds auto", file=sys.stderr)
-    kw = dict(key=jax.random.key(args.seed), n_seeds=args.seeds, refine=args.refine, bounds=args.bounds)
-    if args.scheme == "piecewise":
-        if args.model != "stribeck":
-            raise ValueError("--model applies to --scheme whole only (piecewise uses eq. 10 below and eq. 11 above v_crit)")
-        res = identify(data, "piecewise", args.method, edges=edges, target=args.target, **kw)
-    else:
-        res = identify(data, "whole", args.method, kind=args.model, **kw)
-    out = res.to_json()
-    out["command"] = dict(vars(args))
-    write_json(args.out, out)
+        if len(edges) != 2 or not all(np.isfinite(edges)) or not 0 <= edges[0] < edges[1]:
+            raise ValueError(f"--edges must be two finite numbers 0 <= VMIN < VCRIT in deg/s, got {args.edges!r}")
+    t_start = time.perf_counter()
+    with Outputs() as outs:
+        out_path = outs.file(args.out, "--out", ".json")
+        plot_path = outs.file(args.plot, "--plot", ".png") if args.plot else None
+        data = load_friction_data(args.data)
+        if args.direction == "negative":
+            data = data.direction(-1)
+        n_pts = int(np.unique(np.round(data.velocity[data.velocity > 0], 12)).size)
+        need = MIN_SET_POINTS[args.scheme]
+        if n_pts < need:
+            raise ValueError(f"{args.data}: {n_pts} distinct {args.direction} velocity set-point(s); expected at least "
+                             f"{need} to identify --scheme {args.scheme}")
+        if args.bounds in ("paper", "", None):
+            vmax, tmax = float(np.max(np.abs(data.velocity))), float(np.max(np.abs(data.torque)))
+            if vmax > 10.0 or tmax < 1e-2:
+                print(f"lugre-jax identify: note: the data span up to {vmax:.4g} deg/s and {tmax:.4g} N*m, far from the "
+                      "paper's ranges (vs in [0, 1] deg/s, Fc, Fs in [0, 10] N*m); consider --bounds auto",
+                      file=sys.stderr)
+        kw = dict(key=jax.random.key(args.seed), n_seeds=args.seeds, refine=args.refine, bounds=args.bounds)
+        with tqdm(total=2, desc=f"identify ({args.scheme}, {args.method}): compile + optimise", disable=args.quiet,
+                  bar_format="{desc} {n_fmt}/{total_fmt} [{elapsed}]") as pb:
+            if args.scheme == "piecewise":
+                res = identify(data, "piecewise", args.method, edges=edges, target=args.target, **kw)
+            else:
+                res = identify(data, "whole", args.method, kind=args.model, **kw)
+            pb.update(1)
+            pb.set_description("identify: writing")
+            out = res.to_json()
+            out["command"] = dict(vars(args))
+            write_json(out_path, out)
+            if plot_path is not None:
+                plot_identification(res, plot_path)
+            pb.update(1)
+    total = time.perf_counter() - t_start
     print(res.table())
     for s in res.segments:
         print(f"segment {s.name}: {s.uncertainty.statement}")
-    if args.plot:
-        plot_identification(res, args.plot)
+    # The optimiser's own time excludes compilation, which dominates a first (uncached) run.
+    print(f"time: {total:.1f} s in total = compilation {res.compile_time:.1f} s + optimiser {res.wall_time:.2f} s "
+          f"+ loading, uncertainty, plot and writing {max(total - res.compile_time - res.wall_time, 0.0):.1f} s")
     return 0

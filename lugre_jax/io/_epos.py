@@ -57,10 +57,12 @@ def _clean(line: str) -> str:
 
 def load_epos_file(path: str | os.PathLike, *, nominal_torque_nm: float = TRO2021_NOMINAL_TORQUE_NM) -> EposRecording:
     """Read one EPOS Studio export (see module docstring). Velocity out in deg/s, torque in N*m."""
+    from ._validate import read_text
+
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file (expected an EPOS Studio .csv export)")
-    lines = path.read_text(errors="replace").splitlines()
+    lines = read_text(path, "EPOS Studio .csv export").splitlines()
     header: dict[str, list[str]] = {}
     names_line = None
     for i, raw in enumerate(lines):

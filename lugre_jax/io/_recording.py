@@ -90,7 +90,9 @@ def lowpass_zero_phase(x: np.ndarray, dt: float, cutoff_hz: float, order: int = 
     if cutoff_hz >= nyq:
         return np.asarray(x, dtype=np.float64)
     b, a = signal.butter(order, cutoff_hz / nyq)
-    return signal.filtfilt(b, a, x)
+    x = np.asarray(x, dtype=np.float64)
+    # filtfilt's default padding (3*(order+1) samples) exceeds a very short signal; pad what there is.
+    return signal.filtfilt(b, a, x, padlen=min(3 * max(len(a), len(b)), x.size - 1))
 
 
 def central_difference(x: np.ndarray, dt: float) -> np.ndarray:
@@ -153,61 +155,79 @@ def recording_from_arrays(
     )
 
 
+MIN_SAMPLES = 100  # a file recording needs this many rows: ~10 parameters, 25 time blocks, filters
+
+
 def load_recording(path: str | os.PathLike, cutoff_hz: float | None = None) -> Recording:
     """Load a CSV recording (paper units, see the module docstring), validating every cell.
 
-    Raises ``ValueError`` naming file, line and column for: a missing required column, an empty or
-    non-numeric cell, NaN/inf, a short row, or time that does not strictly increase.
+    Raises ``ValueError`` naming file, line and column for: undecodable bytes, a header separated by
+    ';' or tabs, a missing or duplicated column, an empty or non-numeric cell, NaN/inf, a short row,
+    time that does not strictly increase or is not uniformly sampled (the worst step is named), fewer
+    than :data:`MIN_SAMPLES` rows, a joint that never moves, or a constant torque column.
     """
+    from ._validate import (
+        check_delimiter, check_motion, check_not_constant, check_uniform_time, check_unique_columns, read_text,
+    )
+
     path = Path(path)
-    if not path.exists():
-        raise ValueError(f"{path}: no such recording file")
-    with open(path, newline="") as fh:
-        reader = csv.reader(fh)
-        try:
-            header = next(reader)
-        except StopIteration:
-            raise ValueError(f"{path}: line 1: empty file; expected a header line "
-                             f"'{','.join(REQUIRED_COLUMNS)}'") from None
-        header = [h.strip() for h in header]
-        missing = [c for c in REQUIRED_COLUMNS if c not in header]
-        if missing:
-            raise ValueError(
-                f"{path}: line 1: missing column(s) {missing}; expected a header with "
-                f"{list(REQUIRED_COLUMNS)} (optional {list(OPTIONAL_COLUMNS)}), got {header}"
-            )
-        wanted = [c for c in REQUIRED_COLUMNS + OPTIONAL_COLUMNS if c in header]
-        idx = {c: header.index(c) for c in wanted}
-        data: dict[str, list[float]] = {c: [] for c in wanted}
-        last_t = -math.inf
-        for lineno, row in enumerate(reader, start=2):
-            if not row or all(not cell.strip() for cell in row):
-                continue
-            for c in wanted:
-                j = idx[c]
-                if j >= len(row):
-                    raise ValueError(f"{path}: line {lineno}: column {c!r} is missing "
-                                     f"(row has {len(row)} cells, header has {len(header)})")
-                cell = row[j].strip()
-                try:
-                    x = float(cell)
-                except ValueError:
-                    raise ValueError(f"{path}: line {lineno}: column {c!r}: {cell!r} is not a number; "
-                                     f"expected a finite decimal value") from None
-                if not math.isfinite(x):
-                    raise ValueError(f"{path}: line {lineno}: column {c!r}: {cell!r}; "
-                                     f"expected a finite number (no NaN/inf)")
-                data[c].append(x)
-            t = data["time_s"][-1]
-            if not t > last_t:
-                raise ValueError(f"{path}: line {lineno}: column 'time_s': {t!r} does not increase "
-                                 f"(previous {last_t!r}); expected strictly increasing time")
-            last_t = t
-    if len(data["time_s"]) < 10:
-        raise ValueError(f"{path}: {len(data['time_s'])} data rows; a recording needs at least 10")
-    extra = {c: np.asarray(data[c]) for c in OPTIONAL_COLUMNS if c in data}
+    text = read_text(path, "recording CSV")
+    reader = csv.reader(text.splitlines())
+    try:
+        header = next(reader)
+    except StopIteration:
+        raise ValueError(f"{path}: line 1: empty file; expected a header line "
+                         f"'{','.join(REQUIRED_COLUMNS)}'") from None
+    header = [h.strip() for h in header]
+    check_delimiter(path, 1, text.splitlines()[0])
+    check_unique_columns(path, 1, header)
+    missing = [c for c in REQUIRED_COLUMNS if c not in header]
+    if missing:
+        raise ValueError(
+            f"{path}: line 1: missing column(s) {missing}; expected a header with "
+            f"{list(REQUIRED_COLUMNS)} (optional {list(OPTIONAL_COLUMNS)}), got {header}"
+        )
+    wanted = [c for c in REQUIRED_COLUMNS + OPTIONAL_COLUMNS if c in header]
+    idx = {c: header.index(c) for c in wanted}
+    data: dict[str, list[float]] = {c: [] for c in wanted}
+    lines: list[int] = []
+    last_t = -math.inf
+    for lineno, row in enumerate(reader, start=2):
+        if not row or all(not cell.strip() for cell in row):
+            continue
+        if len(row) < len(header):
+            raise ValueError(f"{path}: line {lineno}: column {header[len(row)]!r} is missing "
+                             f"(row has {len(row)} cells, header has {len(header)})")
+        if len(row) > len(header):
+            raise ValueError(f"{path}: line {lineno}: {len(row)} cells; expected {len(header)} as in the header "
+                             f"({','.join(header)})")
+        for c in wanted:
+            cell = row[idx[c]].strip()
+            try:
+                x = float(cell)
+            except ValueError:
+                raise ValueError(f"{path}: line {lineno}: column {c!r}: {cell!r} is not a number; "
+                                 f"expected a finite decimal value") from None
+            if not math.isfinite(x):
+                raise ValueError(f"{path}: line {lineno}: column {c!r}: {cell!r}; "
+                                 f"expected a finite number (no NaN/inf)")
+            data[c].append(x)
+        t = data["time_s"][-1]
+        if not t > last_t:
+            raise ValueError(f"{path}: line {lineno}: column 'time_s': {t!r} does not increase "
+                             f"(previous {last_t!r}); expected strictly increasing time")
+        last_t = t
+        lines.append(lineno)
+    if len(lines) < MIN_SAMPLES:
+        raise ValueError(f"{path}: {len(lines)} data rows; expected at least {MIN_SAMPLES} uniformly sampled rows "
+                         "to fit a friction model")
+    cols = {c: np.asarray(v) for c, v in data.items()}
+    check_uniform_time(path, cols["time_s"], np.asarray(lines))
+    check_motion(path, cols["velocity_deg_s"], cols["position_deg"])
+    check_not_constant(path, cols["torque_nm"], "torque_nm")
+    extra = {c: cols[c] for c in OPTIONAL_COLUMNS if c in cols}
     return recording_from_arrays(
-        data["time_s"], data["position_deg"], data["velocity_deg_s"], data["torque_nm"],
+        cols["time_s"], cols["position_deg"], cols["velocity_deg_s"], cols["torque_nm"],
         source=str(path), cutoff_hz=cutoff_hz, extra=extra,
     )
 

@@ -161,16 +161,18 @@ def load_stribeck_csv(path: str | os.PathLike) -> StribeckData:
     unknown column, a row with the wrong number of cells, a non-numeric / NaN / infinite cell, an
     unknown branch, or fewer than two distinct velocities per branch.
     """
+    from ._validate import check_delimiter, read_text
+
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise ValueError(f"{path}: no such file (expected a CSV with columns velocity_deg_s,torque_nm[,branch])")
-    with open(path, newline="") as fh:
-        text = fh.read()
+    text = read_text(path, "Stribeck CSV (velocity_deg_s,torque_nm[,branch])")
     rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines()))]
     rows = [(i, r) for i, r in rows if r and any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
     if not rows:
         raise _fail(path, 1, "the file is empty; expected a header line 'velocity_deg_s,torque_nm[,branch]'")
     hline, header = rows[0]
+    check_delimiter(path, hline, ",".join(header) if len(header) > 1 else header[0])
     header = [h.strip() for h in header]
     unknown = [h for h in header if h not in REQUIRED_COLUMNS + OPTIONAL_COLUMNS]
     if unknown:
