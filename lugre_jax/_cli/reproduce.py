@@ -11,20 +11,20 @@ excitation design) in about 1-1.5 minutes.
 
 from __future__ import annotations
 
-import argparse
-
-from ._args import comma_choices
+from ._args import HelpFormatter, comma_choices, plain
 
 CHOICES = ("fig08", "fig09", "fig10", "fig12", "fig13", "fig14", "fig15", "beyond", "creep", "table2", "design")
 
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("reproduce", help="reproduce the paper's figures/tables and write a report",
-                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", required=True, metavar="DIR", help="output folder (created)")
+                              description=plain(__doc__), formatter_class=HelpFormatter)
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder: new, empty, or an earlier result (it holds MANIFEST.json), which is replaced "
+                        "only when the new run has finished")
     p.add_argument("--quick", action="store_true", help="reduced settings for a fast smoke run (tests)")
     p.add_argument("--data", default=None, metavar="CSV",
-                   help="steady-state Stribeck CSV to identify from (default: data/stribeck_paper_like.csv)")
+                   help="steady-state Stribeck CSV to identify from (default: the shipped data/stribeck_paper_like.csv)")
     p.add_argument("--only", default=None, metavar="LIST",
                    help=f"comma-separated subset of {','.join(CHOICES)} (Fig. 10a-b rows need fig09 too)")
     p.add_argument("--seeds", type=int, default=None,
