@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
 import time
 from pathlib import Path
 from typing import Any
@@ -40,7 +39,7 @@ from .._simulation import RESULT_OK, Lanes, SaveAt, simulate
 from ..io import atomic_path, write_csv, write_json
 from ._paths import batch_system
 from ._sample import Grid, Saltelli
-from ._sobol import SobolIndices, sobol_analyze
+from ._sobol import sobol_analyze
 from ._spec import SweepSpec
 
 STATUS_FAST, STATUS_STIFF, STATUS_FAILED = 0, 1, 2
@@ -120,10 +119,16 @@ def _chunk_path(out: Path, i: int) -> Path:
     return out / "chunks" / f"chunk_{i:06d}.npz"
 
 
-def _prepare(spec: SweepSpec, out: Path, X: np.ndarray, n_chunks: int) -> None:
-    """Create the folder, or check that it holds this SPEC's sweep."""
+def _prepare(spec: SweepSpec, out: Path, X: np.ndarray, n_chunks: int, rank: int, wait_s: float) -> None:
+    """Create the folder (rank 0), or check that it holds this SPEC's sweep."""
     digest = spec.digest()
     man = out / _MANIFEST
+    if rank != 0:  # rank 0 creates the folder; the others wait for its manifest
+        deadline = time.monotonic() + wait_s
+        while not man.exists():
+            if time.monotonic() > deadline:
+                raise OSError(f"{out}: no {_MANIFEST} from process 0 after {wait_s:g} s")
+            time.sleep(0.1)
     if man.exists():
         try:
             old = json.loads(man.read_text()).get("spec_sha256")
@@ -177,7 +182,7 @@ def run_sweep(spec: SweepSpec, out, *, progress: bool = True, shard: bool | None
     X = spec.sampler.sample(spec.problem, spec.n, spec.seed)
     n_points = X.shape[0]
     n_chunks = -(-n_points // spec.chunk_size)
-    _prepare(spec, out, X, n_chunks)
+    _prepare(spec, out, X, n_chunks, rank, wait_s)
     _remove_stale(out, rank, world)
     mine = [i for i in range(rank, n_chunks, world) if not _chunk_path(out, i).exists()]
     if max_chunks is not None:
