@@ -188,10 +188,14 @@ def test_adaptive_max_steps_failure_is_a_result_code():
     assert int(sol.result) == lj.RESULT_SOLVER_FAILED
 
 
-def test_nonpositive_inertia_is_a_traced_error():
+def test_nonpositive_inertia_is_refused_concrete_or_traced():
+    # A concrete J is checked in Python (so the compiled program holds no host callback and can be
+    # cached); a traced one by eqx.error_if inside the program.
     bad = eqx.tree_at(lambda s: s.joint.J, _pi_system(0.02), jnp.asarray(-0.1))
+    with pytest.raises(ValueError, match="Joint.J must be > 0"):
+        lj.simulate(bad, 1.0, 10.0)
     with pytest.raises(Exception, match="Joint.J must be > 0"):
-        lj.simulate(bad, 1.0, 10.0).theta.block_until_ready()
+        jax.jit(lambda s: lj.simulate(s, 1.0, 10.0, stepping=lj.FixedStep()).theta)(bad).block_until_ready()
 
 
 def test_bad_static_input_raises_valueerror():

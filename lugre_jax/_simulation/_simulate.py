@@ -42,14 +42,30 @@ def _outputs(system: System, ts, ys, result) -> Solution:
     return Solution(ts, ys, aux["torque_nm"], aux["friction_nm"], aux["theta_ref"], aux["v_ref"], result)
 
 
-def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepping, saveat: SaveAt):
-    # A non-positive inertia is a malformed system, not a bad candidate: fail loudly (traced check),
-    # rather than return a lane of NaN that an optimiser would read as merely "infinitely bad".
-    J = eqx.error_if(
-        system.joint.J, ~(system.joint.J > 0),
-        "Joint.J must be > 0 N*m*s^2/deg (equivalent inertia at the joint)",
-    )
-    system = eqx.tree_at(lambda s: s.joint.J, system, J)
+_J_MESSAGE = "Joint.J must be > 0 N*m*s^2/deg (equivalent inertia at the joint)"
+
+
+def _check_inertia(system: System) -> bool:
+    """Check a concrete inertia here; say whether the traced program must check it instead.
+
+    A non-positive inertia is a malformed system, not a bad candidate: it fails loudly rather than
+    return a lane of NaN that an optimiser would read as merely "infinitely bad". A concrete value
+    is checked in Python, so the compiled program holds no host callback and can be kept in JAX's
+    persistent compilation cache (programs with callbacks are never written to it).
+    """
+    J = system.joint.J
+    if isinstance(J, jax.core.Tracer):
+        return True
+    if not np.all(np.asarray(J) > 0):
+        raise ValueError(_J_MESSAGE)
+    return False
+
+
+def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepping, saveat: SaveAt,
+               check_inertia: bool = True):
+    if check_inertia:
+        J = eqx.error_if(system.joint.J, ~(system.joint.J > 0), _J_MESSAGE)
+        system = eqx.tree_at(lambda s: s.joint.J, system, J)
     ts = jnp.arange(n) / sample_hz
     if isinstance(stepping, FixedStep):
         if saveat.mean is not None:
@@ -65,8 +81,8 @@ def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepp
 
 
 @eqx.filter_jit
-def _jit_one(system, n, sample_hz, stepping, saveat):
-    return _solve_one(system, n, sample_hz, stepping, saveat)
+def _jit_one(system, n, sample_hz, stepping, saveat, check_inertia):
+    return _solve_one(system, n, sample_hz, stepping, saveat, check_inertia)
 
 
 def simulate(
@@ -115,15 +131,16 @@ def simulate(
     n = _sample_grid(float(duration_s), sample_hz)
     if isinstance(stepping, FixedStep):
         step_plan(stepping.dt, sample_hz)  # a dt that fits no sample grid is refused here
+    check_inertia = _check_inertia(system)
     if not batched:
-        return _jit_one(system, n, sample_hz, stepping, saveat)
+        return _jit_one(system, n, sample_hz, stepping, saveat, check_inertia)
     b = batch_size_of(system)
     shard = lanes.shard
     if shard is None:
         evals = rhs_evals(stepping, n, sample_hz) if isinstance(stepping, FixedStep) else math.inf
         shard = len(jax.devices()) > 1 and b * evals >= _SHARD_MIN_EVALS and math.isfinite(evals)
-    key = ("simulate", n, sample_hz, stepping, saveat)
-    out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat), system, b,
+    key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
+    out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), system, b,
                         lanes.chunk_size, shard)
     if saveat.fn is None and saveat.mean is None:
         out = eqx.tree_at(lambda s: s.ts, out, out.ts[0])
