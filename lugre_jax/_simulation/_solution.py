@@ -63,6 +63,17 @@ class Solution(_AbstractStateView):
     def ok(self):
         return self.result == RESULT_OK
 
+    def to_json(self) -> dict:
+        """Plain lists with units in the keys (what ``lugre-jax simulate`` writes as columns)."""
+        import numpy as np
+
+        def col(x):
+            return np.asarray(x).tolist()
+        return {"time_s": col(self.ts), "position_deg": col(self.theta), "velocity_deg_s": col(self.omega),
+                "torque_nm": col(self.torque_nm), "friction_nm": col(self.friction_nm), "z_deg": col(self.z),
+                "position_ref_deg": col(self.theta_ref), "velocity_ref_deg_s": col(self.v_ref),
+                "result": col(self.result), "result_name": _result_names(self.result)}
+
 
 class Sample(_AbstractStateView):
     """One sample of one simulation, as a ``SaveAt(mean=fn)`` function sees it.
@@ -101,11 +112,24 @@ class SampleMean(eqx.Module):
     def ok(self):
         return self.result == RESULT_OK
 
+    def to_json(self) -> dict:
+        import numpy as np
+
+        return {"value": jax.tree.map(lambda v: np.asarray(v).tolist(), self.value),
+                "result": np.asarray(self.result).tolist(), "result_name": _result_names(self.result)}
+
     def or_inf(self):
         """``value`` where the lane succeeded, ``+inf`` where it failed (leaf by leaf)."""
         ok = self.ok
         return jax.tree.map(lambda v: jnp.where(ok.reshape(ok.shape + (1,) * (v.ndim - ok.ndim)), v, jnp.inf),
                             self.value)
+
+
+def _result_names(result):
+    import numpy as np
+
+    r = np.asarray(result)
+    return RESULT_NAMES.get(int(r), str(int(r))) if r.ndim == 0 else [RESULT_NAMES.get(int(x), str(int(x))) for x in r.ravel()]
 
 
 def trajectory_loss(sol: Solution, reduce) -> Array:

@@ -14,8 +14,7 @@ import numpy as np
 
 from .._fusion import derivative_stored_once, runtime_one
 from .._types import Array, Float
-from ..control import AbstractController, AbstractReference
-from ..control._controllers import CtrlIn
+from ..control import AbstractController, AbstractReference, CtrlIn
 from ..friction import AbstractFrictionModel
 from ..plant import AbstractActuator, IdealTorque, Joint
 from ._solution import Sample

@@ -2,6 +2,8 @@
 
 from ._controllers import (
     AbstractController as AbstractController,
+    CtrlIn as CtrlIn,
+    CtrlOut as CtrlOut,
     LuGreCompensated as LuGreCompensated,
     OpenLoop as OpenLoop,
     OpenLoopVoltage as OpenLoopVoltage,
