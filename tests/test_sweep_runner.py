@@ -151,3 +151,20 @@ def test_two_processes_equal_one(tmp_path, reference_run):
     assert computed == [4, 4]  # chunks i = rank (mod 2)
     for a, b in zip(_outputs(out), _outputs(ref_out)):
         np.testing.assert_array_equal(a, b)
+
+
+def test_grid_and_lhs_sweeps(tmp_path):
+    # Same scenario, outputs, stepping and chunk size as SPEC: the compiled chunk is reused.
+    grid = dict(SPEC, sampler="grid", n=3)
+    res = run_sweep(spec_from_dict(grid), tmp_path / "grid", progress=False)
+    X, Y, status = _outputs(tmp_path / "grid")
+    assert res.complete and res.indices is None and X.shape == (9, 2) and Y.shape == (9, 2)
+    np.testing.assert_array_equal(np.unique(X[:, 0]), [100, 550, 1000])
+    assert (tmp_path / "grid" / "heatmap_dead_zone.png").stat().st_size > 0
+    assert not (tmp_path / "grid" / "indices.json").exists()
+    lhs = dict(SPEC, sampler="lhs", n=5)
+    run_sweep(spec_from_dict(lhs), tmp_path / "lhs", progress=False, figures=False)
+    X, Y, status = _outputs(tmp_path / "lhs")
+    assert X.shape == (5, 2) and np.all(status == STATUS_FAST)
+    summary = json.loads((tmp_path / "lhs" / "summary.json").read_text())
+    np.testing.assert_allclose(summary["outputs"]["dead_zone"]["mean"], Y[:, 0].mean(), rtol=1e-12)
