@@ -328,6 +328,10 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default=None, help="comma-separated case ids")
     a = ap.parse_args(argv)
     cases = [c for c in CASES if a.only is None or c.id in a.only.split(",")]
+    try:
+        load = " (load average at the start: " + " ".join(Path("/proc/loadavg").read_text().split()[:3]) + ")"
+    except OSError:
+        load = ""
     rows = []
     for c in cases:
         with tempfile.TemporaryDirectory() as tmp:
@@ -337,7 +341,7 @@ def main(argv=None) -> int:
               f"{'LEFT ' + str(r['left']) + ' ' if r['left'] else ''}{(r['stderr'].splitlines() or [''])[-1][:150]}",
               flush=True)
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    write_table(rows, Path(a.out), HEADER + f"\n\nGenerated {stamp}.")
+    write_table(rows, Path(a.out), HEADER + f"\n\nGenerated {stamp} by `python tests/malformed_inputs.py`{load}.")
     print(f"wrote {a.out}")
     return 0
 
