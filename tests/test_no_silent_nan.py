@@ -43,7 +43,7 @@ def test_100k_random_lanes_fixed_step_are_finite_or_flagged():
 
 def test_random_lanes_adaptive_are_finite_or_flagged():
     swarm = _swarm(64, seed=1)
-    finite, result = lj.simulate(swarm, 2.0, 50.0, batched=True, stepping=lj.Adaptive(max_steps=20_000),
+    finite, result = lj.simulate(swarm, 2.0, 50.0, batched=True, stepping=lj.Adaptive(diffrax.Kvaerno5(), max_steps=20_000),
                                  saveat=lj.SaveAt(fn=_finite))
     finite, result = np.asarray(finite), np.asarray(result)
     ok = result == lj.RESULT_OK

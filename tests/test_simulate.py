@@ -67,19 +67,23 @@ def test_sine_tracking_matches_lsoda():
 
 
 def test_motor_inductance_adaptive_matches_radau():
-    # L/R = 0.25 ms: stiff; the adaptive implicit path against Radau with the exact Jacobian.
+    # L/R = 2.5e-4 s: stiff; the adaptive implicit path against Radau with the exact Jacobian.
     system = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),
                        controller=lj.VelocityPID(kp=8.0, ki=60.0),
                        reference=lj.VelocitySteps([0.05]), actuator=lj.DCMotor())
     ref = _scipy_reference(system, 2.0, 100.0, method="Radau")
-    sol = lj.simulate(system, 2.0, 100.0, stepping=lj.Adaptive(rtol=1e-9, atol=1e-11))
+    sol = lj.simulate(system, 2.0, 100.0, stepping=lj.Adaptive(diffrax.Kvaerno5(), rtol=1e-9, atol=1e-11))
     assert int(sol.result) == lj.RESULT_OK
     np.testing.assert_allclose(sol.theta, ref[:, 0], atol=1e-7, rtol=0)
+    # the explicit default stays correct on the stiff motor (it only needs smaller steps)
+    default = lj.simulate(system, 2.0, 100.0)
+    assert int(default.result) == lj.RESULT_OK
+    np.testing.assert_allclose(default.theta, ref[:, 0], atol=1e-6, rtol=0)
     np.testing.assert_allclose(sol.omega, ref[:, 1], atol=1e-6, rtol=0)
     np.testing.assert_allclose(sol.ys[:, 3], ref[:, 3], atol=1e-6, rtol=0)  # current [A]
     # and the eq. (8) simplification (L neglected) stays close: the motor is fast
     simple = eqx.tree_at(lambda s: s.actuator, system, lj.DCMotor(neglect_inductance=True))
-    sol8 = lj.simulate(simple, 2.0, 100.0, stepping=lj.Adaptive(rtol=1e-9, atol=1e-11))
+    sol8 = lj.simulate(simple, 2.0, 100.0, stepping=lj.Adaptive(diffrax.Kvaerno5(), rtol=1e-9, atol=1e-11))
     assert float(jnp.abs(sol8.theta - sol.theta).max()) < 1e-4
 
 

@@ -28,7 +28,8 @@ Units are the paper's: deg, deg/s, N*m, s. Schema (``?`` = optional)::
 
 ``reference`` may also be ``{"type": "velocity_table", "times_s": [s...], "velocities_deg_s": [...]}``
 (piecewise linear; a repeated time is a step). ``solver`` becomes a stepping object:
-``"adaptive"`` -> :class:`lugre_jax.Adaptive` (``name`` one of kvaerno5, kvaerno3, tsit5, dopri5;
+``"adaptive"`` -> :class:`lugre_jax.Adaptive` (``name`` one of tsit5 (default), dopri5, kvaerno5
+for stiff systems, kvaerno3;
 ``rtol``, ``atol``, ``max_steps``), ``"fixed"`` -> :class:`lugre_jax.FixedStep` (``name`` one of
 tsit5, bosh3, heun, ralston, midpoint, dopri5; ``dt`` [s], default 2.5e-3 s or the sample period if
 shorter). Without a ``solver`` section the scenario is solved adaptively (correct by default).
@@ -212,7 +213,7 @@ def _stepping(s: Any, sample_hz: float):
     if method not in ("fixed", "adaptive"):
         raise ScenarioError(f"solver.method: expected \"adaptive\" or \"fixed\", got {method!r}")
     names = _FIXED if method == "fixed" else _ADAPTIVE
-    name = s.get("name", "tsit5" if method == "fixed" else "kvaerno5")
+    name = s.get("name", "tsit5")
     if name not in names:
         raise ScenarioError(f"solver.name: expected one of {', '.join(sorted(names))} for method "
                             f"\"{method}\", got {name!r}")
