@@ -82,3 +82,13 @@ def test_write_csv_streams_chunks(tmp_path):
     with pytest.raises(ValueError, match="columns"):
         write_csv(tmp_path / "bad.csv", iter([{"t": t}, {"y": t}]))
     assert not (tmp_path / "bad.csv").exists()
+
+
+def test_outputs_refuse_a_file_inside_a_folder_output(tmp_path):
+    from lugre_jax._cli._outputs import Outputs
+
+    with pytest.raises(ValueError, match="inside the output folder"):
+        with Outputs() as outs:
+            outs.file(tmp_path / "res" / "report.json", "--out", ".json")
+            outs.folder(tmp_path / "res", "--plots")
+    assert list(tmp_path.iterdir()) == []

@@ -78,10 +78,17 @@ class Outputs:
         self._meta = dict(meta or {})
         self._finals: set[Path] = set()
 
-    def _claim(self, final: Path, flag: str) -> None:
+    def _claim(self, final: Path, flag: str, is_folder: bool = False) -> None:
         key = final.resolve()
         if key in self._finals:
             raise ValueError(f"{flag} {final}: the same path is given for two outputs")
+        # A folder output is replaced as a whole, so no other output may live inside it.
+        folders = [f.resolve() for _, f in self._folders] + ([key] if is_folder else [])
+        for other in self._finals | {key}:
+            for folder in folders:
+                if other != folder and folder in other.parents:
+                    raise ValueError(f"{flag} {final}: one output lies inside the output folder {folder}; "
+                                     "expected separate paths")
         self._finals.add(key)
 
     def _make_parent(self, p: Path) -> None:
@@ -113,7 +120,7 @@ class Outputs:
             final = check_folder_replaceable(path)
         except ValueError as e:
             raise ValueError(f"{flag} {e}") from None
-        self._claim(final, flag)
+        self._claim(final, flag, is_folder=True)
         self._make_parent(final.parent)
         tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.incomplete-", dir=final.parent))
         umask = os.umask(0)
