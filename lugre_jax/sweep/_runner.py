@@ -171,7 +171,7 @@ def run_sweep(spec: SweepSpec, out, *, progress: bool = True, shard: bool | None
     (a time-limited job; run again to continue). ``wait_s``: how long rank 0 waits for the other
     processes' chunks.
     """
-    t_start = time.perf_counter()
+    t_start, started = time.perf_counter(), time.time()
     out = Path(out)
     rank = jax.process_index() if rank is None else int(rank)
     world = jax.process_count() if world is None else int(world)
@@ -194,18 +194,26 @@ def run_sweep(spec: SweepSpec, out, *, progress: bool = True, shard: bool | None
         total = sum(min(spec.chunk_size, n_points - i * spec.chunk_size) for i in mine)
         bar = tqdm(total=total, unit="sim", desc=f"sweep[{rank}/{world}]" if world > 1 else "sweep",
                    smoothing=0.1, dynamic_ncols=True)
-    for i in mine:
-        lo, hi = i * spec.chunk_size, min(n_points, (i + 1) * spec.chunk_size)
-        Y, status = run_chunk(spec, X[lo:hi], shard=shard)
-        with atomic_path(_chunk_path(out, i)) as tmp:
-            np.savez(tmp, Y=Y, status=status)
+    failed_mark = out / f".process_{rank}.failed"
+    failed_mark.unlink(missing_ok=True)
+    try:
+        for i in mine:
+            lo, hi = i * spec.chunk_size, min(n_points, (i + 1) * spec.chunk_size)
+            Y, status = run_chunk(spec, X[lo:hi], shard=shard)
+            with atomic_path(_chunk_path(out, i)) as tmp:
+                np.savez(tmp, Y=Y, status=status)
+            if bar is not None:
+                bar.update(hi - lo)
+                bar.set_postfix(stiff=int((status == STATUS_STIFF).sum()), failed=int((status == STATUS_FAILED).sum()))
+    except BaseException as e:
+        if world > 1:  # tell rank 0 not to wait for chunks that will not come
+            failed_mark.write_text(f"{type(e).__name__}: {e}\n")
+        raise
+    finally:
         if bar is not None:
-            bar.update(hi - lo)
-            bar.set_postfix(stiff=int((status == STATUS_STIFF).sum()), failed=int((status == STATUS_FAILED).sum()))
-    if bar is not None:
-        bar.close()
+            bar.close()
     missing = [i for i in range(n_chunks) if not _chunk_path(out, i).exists()]
-    if missing and (rank != 0 or world == 1):
+    if missing and (rank != 0 or world == 1 or max_chunks is not None):
         return SweepResult(str(out), n_points, n_chunks, len(mine), False, seconds=time.perf_counter() - t_start)
     if rank != 0:
         return SweepResult(str(out), n_points, n_chunks, len(mine), False, seconds=time.perf_counter() - t_start)
@@ -214,6 +222,11 @@ def run_sweep(spec: SweepSpec, out, *, progress: bool = True, shard: bool | None
         if time.monotonic() > deadline:
             raise OSError(f"{out}: {len(missing)} chunks (first {missing[0]}) still missing after {wait_s:g} s; "
                           "are the other processes running? Run again to resume")
+        # Markers older than this run are from an earlier attempt of a process that has restarted.
+        dead = sorted(p for p in out.glob(".process_*.failed") if p.stat().st_mtime >= started)
+        if dead:
+            raise OSError(f"{out}: {dead[0].name[1:-7]} stopped ({dead[0].read_text().strip()}); "
+                          f"{len(missing)} chunks missing; run again to resume")
         time.sleep(0.2)
         missing = [i for i in missing if not _chunk_path(out, i).exists()]
     return _finish(spec, out, X, n_chunks, len(mine), t_start, figures)
