@@ -22,6 +22,13 @@ import numpy as np
 # ---------------------------------------------------------------------------------- valid inputs
 
 
+def _cli_module() -> list[str]:
+    """The installed ``lugre-jax`` entry point's module when present (it sets process options before
+    the package is imported), else the package's CLI module."""
+    root = Path(__file__).resolve().parents[1]
+    return ["-m", "lugre_jax_cli"] if (root / "lugre_jax_cli.py").exists() else ["-m", "lugre_jax.cli"]
+
+
 def recording_text(n: int = 400, dt: float = 0.01, seed: int = 0) -> str:
     """A plausible recording in paper units: a sine sweep with Coulomb + viscous friction and noise."""
     rng = np.random.default_rng(seed)
@@ -270,12 +277,36 @@ def run_subprocess(case: Case, d: Path, timeout: float = 600) -> dict:
 
     argv = case.make(d)
     before = files_under(d)
-    r = subprocess.run([sys.executable, "-m", "lugre_jax.cli", *argv], capture_output=True, text=True,
+    r = subprocess.run([sys.executable, *_cli_module(), *argv], capture_output=True, text=True,
                        timeout=timeout, cwd=Path(__file__).resolve().parents[1])
     left = sorted(files_under(d) - before)
-    return dict(id=case.id, kind=case.kind, command=argv[0], code=r.returncode,
+    return dict(id=case.id, kind=case.kind, command=argv[0], code=r.returncode, expected=case.code,
                 stderr=r.stderr.strip().replace(str(d), "DIR"), stdout=r.stdout.strip(), traceback="Traceback" in r.stderr, left=left,
                 argv=[a.replace(str(d), "DIR") for a in argv])
+
+
+def run_interrupt(sig_name: str, d: Path) -> dict:
+    """``reproduce --quick --only fig08`` interrupted once its temporary folder holds a file."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    sig = getattr(signal, sig_name)
+    argv = ["reproduce", "--quick", "--no-progress", "--only", "fig08", "--out", str(d / "out")]
+    p = subprocess.Popen([sys.executable, *_cli_module(), *argv], cwd=Path(__file__).resolve().parents[1],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    while p.poll() is None and not any(f for s in d.glob(".out.incomplete-*") for f in s.iterdir()):
+        time.sleep(0.2)
+    ended_early = p.poll() is not None
+    if not ended_early:
+        p.send_signal(sig)
+    _, err = p.communicate(timeout=600)
+    if ended_early:
+        err = "NOT INTERRUPTED: reproduce ended before the signal could be sent: " + err.strip()
+    return dict(id=f"interrupt-{sig_name}", kind=f"{sig_name} during reproduce, after its first file was written",
+                command="reproduce", code=p.returncode, expected=128 + sig, stderr=err.strip().replace(str(d), "DIR"),
+                stdout="", traceback="Traceback" in err, left=sorted(files_under(d)), argv=argv)
 
 
 def _md(s: str) -> str:
@@ -285,10 +316,11 @@ def _md(s: str) -> str:
 def write_table(rows: list[dict], path: Path, header: str) -> None:
     n_tb = sum(r["traceback"] for r in rows)
     n_left = sum(bool(r["left"]) for r in rows)
-    n_ok = sum(r["code"] == 2 and not r["traceback"] and not r["left"] and len(r["stderr"].splitlines()) == 1
+    n_ok = sum(r["code"] == r["expected"] and not r["traceback"] and not r["left"] and len(r["stderr"].splitlines()) == 1
                for r in rows)
     lines = [header, "",
-             f"**{len(rows)} inputs tried: {n_ok} exit with code 2 and one line; {n_tb} tracebacks; "
+             f"**{len(rows)} inputs tried: {n_ok} end with the expected exit code (2; 130/143 when interrupted) and "
+             f"one line; {n_tb} tracebacks; "
              f"{n_left} left an output behind.**", "",
              "| # | Input class | Command | Exit | Message (stderr; DIR = the case's folder) | Outputs left |",
              "|---|---|---|---|---|---|"]
@@ -340,6 +372,12 @@ def main(argv=None) -> int:
         print(f"{c.id:<22} exit {r['code']}  {'TRACEBACK ' if r['traceback'] else ''}"
               f"{'LEFT ' + str(r['left']) + ' ' if r['left'] else ''}{(r['stderr'].splitlines() or [''])[-1][:150]}",
               flush=True)
+    if a.only is None or "interrupt" in a.only:
+        for sig_name in ("SIGINT", "SIGTERM"):
+            with tempfile.TemporaryDirectory() as tmp:
+                r = run_interrupt(sig_name, Path(tmp))
+            rows.append(r)
+            print(f"{r['id']:<22} exit {r['code']}  {r['stderr'][-150:]}  left {r['left']}", flush=True)
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     write_table(rows, Path(a.out), HEADER + f"\n\nGenerated {stamp} by `python tests/malformed_inputs.py`{load}.")
     print(f"wrote {a.out}")

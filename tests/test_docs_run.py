@@ -35,6 +35,13 @@ DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 FENCE = re.compile(r"^```([\w+-]*)\s*$")
 
 
+def _cli_module() -> list[str]:
+    """The installed ``lugre-jax`` entry point's module when present (it sets process options before
+    the package is imported), else the package's CLI module."""
+    root = Path(__file__).resolve().parents[1]
+    return ["-m", "lugre_jax_cli"] if (root / "lugre_jax_cli.py").exists() else ["-m", "lugre_jax.cli"]
+
+
 def blocks(path: Path) -> list[dict]:
     """Fenced blocks of a Markdown file: language, text, first line number, and the marker comment
     on the line before the fence (if any)."""
@@ -202,6 +209,6 @@ def test_inline_commands_name_real_options(cmd):
 def test_fenced_commands_run(cmd, tmp_path):
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     argv = shlex.split(cmd)[1:]
-    r = subprocess.run([sys.executable, "-m", "lugre_jax.cli", *argv], cwd=_scratch(tmp_path), capture_output=True,
+    r = subprocess.run([sys.executable, *_cli_module(), *argv], cwd=_scratch(tmp_path), capture_output=True,
                        text=True, env=env, timeout=7200)
     assert r.returncode == 0, f"{cmd!r} failed:\n{r.stderr[-3000:]}"

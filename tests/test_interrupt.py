@@ -20,6 +20,13 @@ from lugre_jax.io import MANIFEST
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _cli_module() -> list[str]:
+    """The installed ``lugre-jax`` entry point's module when present (it sets process options before
+    the package is imported), else the package's CLI module."""
+    root = Path(__file__).resolve().parents[1]
+    return ["-m", "lugre_jax_cli"] if (root / "lugre_jax_cli.py").exists() else ["-m", "lugre_jax.cli"]
+
+
 def _previous_result(out: Path) -> dict:
     """A stand-in for an earlier complete result: a file and the manifest that marks it complete."""
     out.mkdir()
@@ -32,7 +39,7 @@ def _interrupt_reproduce(tmp_path: Path, sig: int, extra: list[str], wait_for_fi
                          ) -> tuple[subprocess.CompletedProcess, Path]:
     out = tmp_path / "out"
     before = _previous_result(out)
-    cmd = [sys.executable, "-m", "lugre_jax.cli", "reproduce", "--quick", "--no-progress", "--out", str(out), *extra]
+    cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--no-progress", "--out", str(out), *extra]
     p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     # Wait until the run has written its first file into its temporary folder (mid-run, partial
     # output exists), or, quicker, until that folder exists (the run is compiling and running).
@@ -69,7 +76,7 @@ def test_reproduce_rerun_replaces_a_previous_result(tmp_path):
     """A complete quick run into a folder holding a previous result replaces it, manifest last."""
     out = tmp_path / "out"
     _previous_result(out)
-    cmd = [sys.executable, "-m", "lugre_jax.cli", "reproduce", "--quick", "--no-progress", "--out", str(out),
+    cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--no-progress", "--out", str(out),
            "--only", "fig08,table2"]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=1200)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -86,7 +93,7 @@ def test_refuses_a_foreign_folder(tmp_path):
     out.mkdir()
     (out / "notes.txt").write_text("keep me")
     env = dict(os.environ)
-    r = subprocess.run([sys.executable, "-m", "lugre_jax.cli", "reproduce", "--out", str(out)], cwd=ROOT,
+    r = subprocess.run([sys.executable, *_cli_module(), "reproduce", "--out", str(out)], cwd=ROOT,
                        capture_output=True, text=True, timeout=300, env=env)
     assert r.returncode == 2
     assert len(r.stderr.strip().splitlines()) == 1 and str(out) in r.stderr and MANIFEST in r.stderr
