@@ -95,7 +95,7 @@ def test_stiff_lanes_resolved_and_double_failures_dropped(tmp_path):
     d = copy.deepcopy(SCENARIO)
     d["friction"]["sigma0"], d["controller"]["ki"] = X[i]
     system, _ = scenario_from_dict(d)
-    sol = lj.simulate(system, 3.0, 100.0, stepping=lj.Adaptive(rtol=1e-6, atol=1e-9, max_steps=400))
+    sol = lj.simulate(system, 3.0, 100.0, stepping=lj.Adaptive(diffrax.Kvaerno5(), rtol=1e-6, atol=1e-9, max_steps=400))
     np.testing.assert_allclose(Y[i, 0], M.dead_zone_lag(np.asarray(sol.ts), np.asarray(sol.theta), 0.01), rtol=1e-9)
     # Whole groups (D + 2 = 4 rows) with a failed run are dropped, and said so; no NaN.
     groups_bad = (status.reshape(-1, 4) == STATUS_FAILED).any(axis=1).sum()
