@@ -69,7 +69,17 @@ def violations(rel: str, repo: Path = REPO) -> list[str]:
     tree = ast.parse((repo / rel).read_text(), filename=rel)
     here = _package_of(rel)
     bad = []
+    # names bound to a lugre_jax module, for `lj._params.to_vector`-style access (not an import)
+    aliases = {a.asname or a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import)
+               for a in n.names if a.name.split(".")[0] == "lugre_jax"}
+    aliases |= {a.asname or a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and not n.level
+                and (n.module or "").split(".")[0] == "lugre_jax" for a in n.names
+                if not a.name[:1].isupper()}  # a submodule or function; classes have no private attributes here
     for node in ast.walk(tree):
+        if (here is None and isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                and node.value.id in aliases and node.attr.startswith("_") and not node.attr.startswith("__")):
+            bad.append(f"{rel}:{node.lineno}: {ast.unparse(node)}")
+            continue
         if isinstance(node, ast.Import):
             mods = [(a.name, None) for a in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -97,7 +107,8 @@ def test_the_checker_sees_private_imports(tmp_path):
     # an independent hand-made case per rule, so the real test cannot pass by seeing nothing
     files = {
         "experiments/x/run.py": "from lugre_jax.identify._schemes import identify\nimport lugre_jax._params\n"
-                                "from lugre_jax.diagnose import _model as M\nfrom lugre_jax.identify import identify\n",
+                                "from lugre_jax.diagnose import _model as M\nfrom lugre_jax.identify import identify\n"
+                                "import lugre_jax as lj\nlj.configure()\nv = lj._params.to_vector\n",
         "lugre_jax/reproduce/_y.py": "from ..io._atomic import write_json\nfrom ._setup import build_setup\n"
                                      "from .._simulation import simulate\nfrom .. import simulate\n",
         "lugre_jax/_cli/z.py": "from ._args import parse\nfrom ..identify import identify\nfrom .._bench import run\n",
@@ -107,7 +118,7 @@ def test_the_checker_sees_private_imports(tmp_path):
         (tmp_path / rel).write_text(text)
     got = {rel: [v.split(": ", 1)[1] for v in violations(rel, tmp_path)] for rel in files}
     assert got["experiments/x/run.py"] == ["from lugre_jax.identify._schemes import identify", "import lugre_jax._params",
-                                           "from lugre_jax.diagnose import _model as M"]
+                                           "from lugre_jax.diagnose import _model as M", "lj._params"]
     assert got["lugre_jax/reproduce/_y.py"] == ["from ..io._atomic import write_json", "from .._simulation import simulate"]
     assert got["lugre_jax/_cli/z.py"] == ["from .._bench import run"]
 
