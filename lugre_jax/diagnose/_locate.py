@@ -27,6 +27,9 @@ import numpy as np
 from scipy import stats
 
 
+RESOLUTION = 0.15  # binned-mean margin, in units of the estimated per-sample torque noise
+
+
 def holm(p: np.ndarray) -> np.ndarray:
     """Holm step-down adjusted p-values (family-wise error control)."""
     p = np.asarray(p, float)
@@ -48,8 +51,12 @@ def long_run_variance_factor(r: np.ndarray, blocks: np.ndarray) -> float:
     return max(1.0, k)
 
 
-def cluster_mean_test(r: np.ndarray, mask: np.ndarray, blocks: np.ndarray, min_clusters: int = 5):
-    """Mean of ``r[mask]`` with a cluster-robust (time-block) standard error; None if too few clusters."""
+def cluster_mean_test(r: np.ndarray, mask: np.ndarray, blocks: np.ndarray, min_clusters: int = 5,
+                      margin: np.ndarray | None = None):
+    """Mean of ``r[mask]`` with a cluster-robust (time-block) standard error; None if too few clusters.
+
+    ``margin``: per-sample bound on a residual the conditioning may leave (smoothing bias); the test
+    is then of ``|mean| > mean(margin)`` (an effect beyond what the conditioning can explain)."""
     rb, bb = r[mask], blocks[mask]
     if rb.size < 20:
         return None
@@ -61,12 +68,13 @@ def cluster_mean_test(r: np.ndarray, mask: np.ndarray, blocks: np.ndarray, min_c
     u = np.bincount(inv, weights=rb - mean)
     var = G / (G - 1) * float(np.sum(u ** 2)) / rb.size ** 2
     se = np.sqrt(max(var, 1e-300))
-    tval = mean / se
+    m_bias = float(np.mean(margin[mask])) if margin is not None else 0.0
+    tval = np.sign(mean) * max(abs(mean) - m_bias, 0.0) / se
     df = G - 1
     p = float(2 * stats.t.sf(abs(tval), df))
     q = stats.t.ppf(0.975, df)
     return {"mean_residual": mean, "ci95": [mean - q * se, mean + q * se], "statistic": float(tval),
-            "df": df, "n": int(rb.size), "p_value": p}
+            "df": df, "n": int(rb.size), "p_value": p, "conditioning_margin": m_bias}
 
 
 def _reversal_clock(t, v, v_dead):
@@ -96,8 +104,16 @@ def binned_tests(rec, r, blocks, scales) -> list[dict]:
     u = rec.units
     out = []
 
+    margin = rec.extra.get("conditioning_bias_nm")
+    # a region's mean must also exceed a resolution margin, a fraction of the per-sample noise:
+    # the inverse model's own errors in variables at the slowest speeds leave means of that order
+    # (measured: -0.0075 N*m at 0.01 deg/s on issue #20's recording with the TRUE parameters,
+    # 9 % of its 0.08 N*m noise), which is not missing physics
+    floor = float(scales.get("noise", 0.0)) * RESOLUTION
+    margin = (np.zeros_like(r) if margin is None else np.asarray(margin)) + floor
+
     def add(kind, region, mask):
-        res = cluster_mean_test(r, mask, blocks)
+        res = cluster_mean_test(r, mask, blocks, margin=margin)
         if res is not None:
             out.append({"test": kind, "region": region, **res})
 
@@ -207,8 +223,11 @@ def _acf(x, L):
     return c / c[0]
 
 
-def xcorr_test(r, x, max_lag: int, L: int):
-    """max_k |corr(r_t, x_{t+k})| over |k| <= max_lag, Bartlett variance, Bonferroni over lags."""
+def xcorr_test(r, x, max_lag: int, L: int, min_lag: int = 0):
+    """max_k |corr(r_t, x_{t+k})| over ``min_lag <= |k| <= max_lag``, Bartlett variance, Bonferroni
+    over lags. ``min_lag`` > 0 skips the lags at which the input and the residual share measurement
+    noise through the conditioning filter (errors in variables: an acceleration smoothed over W
+    samples and the residual it leaves are correlated at |k| < W under the null)."""
     n = r.size
     rc, xc = r - r.mean(), x - x.mean()
     sr, sx = rc.std(), xc.std()
@@ -217,7 +236,10 @@ def xcorr_test(r, x, max_lag: int, L: int):
     F = np.fft.rfft(rc, 2 * n) * np.conj(np.fft.rfft(xc, 2 * n))
     cc = np.fft.irfft(F)
     lags = np.arange(-max_lag, max_lag + 1)
-    rho = np.array([cc[-k] if k > 0 else cc[-k] for k in lags]) / (n * sr * sx)
+    lags = lags[np.abs(lags) >= min_lag]
+    if lags.size == 0:
+        return None
+    rho = np.array([cc[-k] for k in lags]) / (n * sr * sx)
     # corr(r_t, x_{t+k}) = cc[-k] with this FFT convention (k > 0 wraps to the end)
     ar, ax = _acf(r, L), _acf(x, L)
     w = 1 - np.arange(L + 1) / (L + 1)
@@ -230,15 +252,21 @@ def xcorr_test(r, x, max_lag: int, L: int):
             "p_value": p, "rho": rho, "lags": lags, "se": se}
 
 
-def ljung_box(r, m: int = 20):
+def ljung_box(r, m: int = 20, min_lag: int = 1):
+    """Ljung-Box on the ``m`` lags from ``min_lag`` (past the conditioning filter's memory, where the
+    smoothed measurement noise the residual carries is uncorrelated)."""
     n = r.size
-    ac = _acf(r, m)[1:]
-    Q = n * (n + 2) * np.sum(ac ** 2 / (n - np.arange(1, m + 1)))
+    k = np.arange(min_lag, min_lag + m)
+    ac = _acf(r, int(k[-1]))[k]
+    Q = n * (n + 2) * np.sum(ac ** 2 / (n - k))
     return {"statistic": float(Q), "df": m, "p_value": float(stats.chi2.sf(Q, m))}
 
 
-def locate(rec, r, blocks, scales, alpha: float = 0.05) -> dict:
-    """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring."""
+def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0) -> dict:
+    """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring.
+
+    ``filter_lags``: the memory (in samples) of the filter that conditioned the kinematics; the
+    cross-correlation with acceleration and jerk and the whiteness test skip shorter lags."""
     r = np.asarray(r, float)
     kappa = long_run_variance_factor(r, blocks)
     tests = binned_tests(rec, r, blocks, scales)
@@ -255,13 +283,15 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05) -> dict:
     jerk = np.gradient(np.asarray(rec.acceleration, float), np.asarray(rec.time, float))
     for name, x in (("velocity", rec.velocity), ("acceleration", rec.acceleration),
                     ("jerk", jerk), ("sign_velocity", np.sign(rec.velocity))):
-        xc = xcorr_test(r, np.asarray(x, float), max_lag, L)
+        ml = filter_lags if name in ("acceleration", "jerk") else 0
+        xc = xcorr_test(r, np.asarray(x, float), max_lag, L, ml)
         if xc is not None:
             xcs[name] = xc
             tests.append({"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
                           "statistic": xc["statistic"], "p_value": xc["p_value"]})
-    lb = ljung_box(r)
-    tests.append({"test": "whiteness_ljung_box", "region": {"whole_recording": True, "lags": lb["df"]},
+    lb = ljung_box(r, min_lag=max(1, filter_lags))
+    tests.append({"test": "whiteness_ljung_box", "region": {"whole_recording": True, "lags": lb["df"],
+                                                            "from_lag": max(1, filter_lags)},
                   "statistic": lb["statistic"], "p_value": lb["p_value"]})
     p_adj = holm(np.array([x["p_value"] for x in tests]))
     for x, q in zip(tests, p_adj):

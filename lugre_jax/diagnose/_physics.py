@@ -36,6 +36,16 @@ class PositionRipple(AbstractCandidate):
     period: jax.Array = cparam("P", 1e-4, 2.0, log=True)
     phase: jax.Array = cparam("1", -3 * np.pi, 3 * np.pi)
     id: ClassVar[str] = "position_ripple"
+    key_params: ClassVar[dict] = {"amplitude": 0.0}
+
+    def implausible(self, ctx):
+        span = ctx["scales"]["P"]
+        if span < 2 * float(self.period):
+            return f"fewer than two periods ({float(self.period):.3g}) in the position span {span:.3g}"
+        res = ctx.get("position_resolution", 0.0)
+        if float(self.period) < 8 * res:
+            return "period within a few encoder steps"
+        return None
     explanation: ClassVar[str] = (
         "A torque that repeats with joint position (period in position units): cogging of the motor, "
         "gear-mesh or screw-lead error, or a bearing defect. It adds A*sin(2*pi*theta/period + phase) "
@@ -69,6 +79,17 @@ class Gravity(AbstractCandidate):
     phase: jax.Array = cparam("1", -3 * np.pi, 3 * np.pi)
     to_rad: jax.Array = eqx.field(converter=jnp.asarray, default=np.pi / 180)
     id: ClassVar[str] = "gravity"
+    key_params: ClassVar[dict] = {"amplitude": 0.0}
+
+    def implausible(self, ctx):
+        span = ctx["scales"]["P"] * float(self.to_rad)
+        if span < np.pi / 6:
+            # over less than 30 deg a sine of the angle is a line (a spring or a position-dependent
+            # friction would fit as well): the amplitude is not identifiable
+            return f"position span {span * 180 / np.pi:.3g} deg < 30 deg: a sine cannot be told from a line"
+        if float(self.amplitude) > 2 * ctx["scales"]["T"]:
+            return "amplitude above twice the largest measured torque"
+        return None
     explanation: ClassVar[str] = (
         "An uncompensated gravity (or spring-balancer) torque G(theta) = A*sin(theta + phase) that "
         "depends on the joint angle with a period of one revolution: the paper assumes the arm's "
@@ -103,6 +124,7 @@ class Asymmetry(AbstractCandidate):
     offset: jax.Array = cparam("T", -1.0, 1.0)
     dsigma2: jax.Array = cparam("T/V", -1.0, 1.0)
     id: ClassVar[str] = "asymmetry"
+    key_params: ClassVar[dict] = {"offset": 0.0, "dsigma2": 0.0}
     explanation: ClassVar[str] = (
         "Friction is not the same in both directions: the Coulomb level is Fc + offset when moving "
         "positive and Fc - offset when moving negative (indistinguishable, while sliding, from a "
@@ -136,6 +158,7 @@ class ThermalDrift(AbstractCandidate):
 
     rate: jax.Array = cparam("1/D", -1.0, 1.0)
     id: ClassVar[str] = "thermal_drift"
+    key_params: ClassVar[dict] = {"rate": 0.0}
     explanation: ClassVar[str] = (
         "Friction changes during the recording, as lubricant warms up and thins (or the joint cools): "
         "the whole friction torque is scaled by 1 + rate*(t - t_mid); rate*duration is the relative "
@@ -168,6 +191,7 @@ class StribeckShape(AbstractCandidate):
 
     delta: jax.Array = cparam("1", 0.3, 6.0)
     id: ClassVar[str] = "stribeck_shape"
+    key_params: ClassVar[dict] = {"delta": 2.0}
     explanation: ClassVar[str] = (
         "The fall from static to Coulomb friction has a different shape than the paper's Gaussian "
         "(exponent 2 in eq. 9-10): g(v) = Fc + (Fs - Fc)*exp(-|v/vs|^delta). delta < 2 is a sharper "
@@ -224,6 +248,13 @@ class Backlash(AbstractCandidate):
     width: jax.Array = cparam("P", 1e-7, 0.02, log=True)
     share: jax.Array = cparam("1", 1e-4, 1.0, log=True)
     id: ClassVar[str] = "backlash"
+    key_params: ClassVar[dict] = {"width": 0.0, "share": 0.0}
+
+    def implausible(self, ctx):
+        res = ctx.get("position_resolution", 0.0)
+        if float(self.width) < 4 * res:
+            return f"width {float(self.width):.3g} within four steps of the position resolution {res:.3g}"
+        return None
     explanation: ClassVar[str] = (
         "Backlash (dead band) in the transmission: after every reversal the motor turns through a gap "
         "of the given width before it re-engages the load, and during that travel the friction on the "
@@ -237,14 +268,18 @@ class Backlash(AbstractCandidate):
         # Split friction: (1 - share)*F on the motor side, as before; the load side moves only when
         # engaged (velocity frac*v, so its bristles hold their state in the gap) and is felt only then.
         frac = engaged_fraction(kin.theta, self.width)
-        F_load = terms.friction_gain * friction_torque(terms.friction, terms.v_friction * frac, kin.h)
+        # the load side's bristles follow the load's path: the motor's path through the play operator
+        dpath_load = jnp.diff(play_operator(jnp.cumsum(jnp.concatenate([kin.theta[:1], terms.dpath])),
+                                            self.width))
+        F_load = terms.friction_gain * friction_torque(terms.friction, terms.v_friction * frac, kin.h,
+                                                       dpath_load, kin.z0_sign)
         return self.share * (frac * F_load - F)
 
     def initial_guesses(self, ctx):
         # share by least squares on the located residual, for each trial width
         P = ctx["scales"]["P"]
         kin = ctx["kin"]
-        terms = Terms(ctx["baseline"].friction, kin.v, jnp.ones_like(kin.v))
+        terms = Terms(ctx["baseline"].friction, kin.v, jnp.ones_like(kin.v), kin.dpath)
         F = jnp.asarray(ctx["friction_torque"])
         r = np.asarray(ctx["residual"])
         out = []
@@ -285,6 +320,18 @@ class Compliance(AbstractCandidate):
     zeta: jax.Array = cparam("1", 0.005, 1.0, log=True)
     J_load: jax.Array = cparam("T/A", 0.0, 5.0)
     id: ClassVar[str] = "compliance"
+    key_params: ClassVar[dict] = {"J_load": 0.0, "fn": 0.0}
+
+    def implausible(self, ctx):
+        fc = ctx.get("accel_bandwidth_hz", np.inf)
+        if float(self.fn) > 0.7 * fc:
+            return (f"natural frequency {float(self.fn):.3g} Hz not below the conditioned acceleration's "
+                    f"bandwidth {fc:.3g} Hz")
+        if float(self.J_load) > float(ctx["baseline"].J):
+            return "load inertia above the joint's whole inertia"
+        if float(self.zeta) > 0.5:
+            return "damping ratio above 0.5: no ringing to tell a spring from a filter"
+        return None
     explanation: ClassVar[str] = (
         "The transmission is elastic: part of the inertia (J_load) sits behind a spring, so it lags the "
         "motor and rings at the natural frequency fn (damping ratio zeta) after every change of "
@@ -320,6 +367,7 @@ class LoadDependent(AbstractCandidate):
     mu: jax.Array = cparam("1", 0.0, 2.0)
     v_eps: jax.Array = eqx.field(converter=jnp.asarray, default=1e-3)
     id: ClassVar[str] = "load_dependent"
+    key_params: ClassVar[dict] = {"mu": 0.0}
     explanation: ClassVar[str] = (
         "Friction grows with the torque the transmission carries (gear/screw contact normal force "
         "rises with load): an extra friction mu*|tau_transmitted|*sign(v), with the transmitted torque "

@@ -26,6 +26,22 @@ def _binned(x, r, edges):
     return np.array(c), np.array(m), np.array(s)
 
 
+def _symlog_velocity_axis(ax, V: float) -> None:
+    """Symmetric-log velocity axis whose tick labels do not collide around zero: linear within
+    +-1e-3*V, labelled ticks at 0 and at +-V*10^-k (k = 0, 1, 2) only -- one a decade apart, none
+    at the edge of the linear region, where the default locator crowds labels onto 0."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator
+
+    lt = V * 1e-3
+    ax.set_xscale("symlog", linthresh=lt, linscale=0.5)
+    pos = [float(f"{V * 10.0 ** -k:.1g}") for k in (0, 1, 2)]
+    ticks = sorted([-p for p in pos] + [0.0] + pos)
+    ax.xaxis.set_major_locator(FixedLocator(ticks))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: "0" if x == 0 else f"{x:.2g}"))
+    ax.tick_params(axis="x", labelrotation=30)
+
+
 def effect_torques(model: M.JointModel, kin) -> dict[str, np.ndarray]:
     """Torque contributed by each candidate of ``model`` (model minus model-without-it)."""
     full = M.predict(model, kin)
@@ -44,6 +60,7 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
 
     outdir = Path(outdir)
     arr = report["_arrays"]
+    rec = arr.get("rec", rec)  # the conditioned kinematics the residuals belong to
     r0, r1 = np.asarray(arr["r0"]), np.asarray(arr["r1"])
     t, v, th = rec.time, rec.velocity, rec.position
     u = rec.units
@@ -74,7 +91,7 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
         pe = np.quantile(th, np.linspace(0, 1, 41))
         c, m, s = _binned(th, r, pe)
         axs[1].errorbar(c, m, s, fmt="o-", ms=3, color=col, label=lab)
-    axs[0].set_xscale("symlog", linthresh=V * 1e-3)
+    _symlog_velocity_axis(axs[0], V)
     axs[0].set_xlabel(f"velocity [{u['velocity']}]")
     axs[1].set_xlabel(f"position [{u['position']}]")
     for ax in axs:
@@ -118,7 +135,7 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
             ax.plot(x[o], r0[o], ",", color="0.7", label="baseline residual")
             ax.plot(x[o], e[o], ".", ms=1.5, color="C3", label=f"{c.id} torque (fitted)")
             if c.id in ("asymmetry", "stribeck_shape"):
-                ax.set_xscale("symlog", linthresh=V * 1e-3)
+                _symlog_velocity_axis(ax, V)
             lim = 4 * max(np.max(np.abs(e)), 1e-12)
             ax.set_ylim(-lim, lim)
             ax.set_xlabel(xl)

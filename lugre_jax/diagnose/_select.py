@@ -8,7 +8,7 @@ Pipeline (the joint model and friction are those of Li et al., Electronics 2020,
 3. otherwise score every applicable candidate on the located residual: of its multi-start guesses
    (e.g. the position-periodogram peaks for a ripple), keep the one whose torque projects best
    onto the residual; that projected drop of the residual sum of squares is its score;
-4. refit the best ``top_k`` (default: all) JOINTLY with the baseline by LM -- jointly, because
+4. refit the best ``top_k`` (default 4) JOINTLY with the baseline by LM -- jointly, because
    friction parameters trade off against the new physics (e.g. Fs, vs against the Stribeck
    exponent); accept the candidate with the largest BIC drop
    BIC if (a) BIC decreases, computed with the effective sample size N/kappa (kappa: long-run
@@ -35,9 +35,9 @@ from ..friction import LuGre
 from ._physics import CANDIDATES
 
 
-def _ctx(rec, model, kin, r, loc, scales, n_rev):
+def _ctx(rec, model, kin, r, loc, scales, n_rev, extra=None):
     inertial, F, _ = (np.asarray(x) for x in M._parts(model, kin))
-    return {"rec": rec, "kin": kin, "baseline": model, "residual": r, "scales": scales, "units": rec.units,
+    return {**(extra or {}),"rec": rec, "kin": kin, "baseline": model, "residual": r, "scales": scales, "units": rec.units,
             "position_peaks": loc["position_periodogram"]["peaks"],
             "time_peak_hz": loc["time_periodogram"]["frequency"], "friction_torque": F,
             "inertial_torque": inertial, "n_reversals": n_rev,
@@ -74,6 +74,22 @@ def _paired_block_test(r0, r1, blocks, val):
     return float(stats.norm.sf(d / sd))
 
 
+def _identifiability(model, space, kin, tau, w, kappa, cand) -> float:
+    """Largest |value - null| / standard error over the candidate's key parameters (joint fit)."""
+    try:
+        se = M.standard_errors(model, space, kin, tau, w, kappa)
+    except Exception:  # noqa: BLE001 - a failed Jacobian means "not shown identifiable"
+        return 0.0
+    z = 0.0
+    for name, null in type(cand).key_params.items():
+        key = f"{cand.id}.{name}"
+        if key in se:
+            v, e = se[key]
+            if np.isfinite(e) and e > 0:
+                z = max(z, abs(v - null) / e)
+    return z
+
+
 def _bic(sse, n_eff_factor, n, k):
     ne = n / n_eff_factor
     return ne * np.log(sse / n) + k * np.log(ne)
@@ -86,32 +102,47 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
     return specs
 
 
-def fit_baseline(rec, kin, weights, scales, friction="lugre", fit_offset=False, params=None):
+def fit_baseline(rec, kin, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
+                 rough=None, screen_steps: int = 25, max_steps: int = 200):
+    """Multi-start LM fit of the baseline; returns (model, info).
+
+    Starts from :func:`~._model.initial_baselines` (data-driven) plus the least-squares start;
+    each is run ``screen_steps`` LM steps, the best two by training SSE are run to convergence.
+    """
     if params is not None:
-        return M.baseline_from_params(params), {"result": "given", "steps": 0}
-    m0 = M.initial_baseline(rec, friction, fit_offset)
-    space = M.FitSpace(M.baseline_specs(m0, scales, fit_offset))
-    starts = [M.clip_into(space, m0)]
+        return M.baseline_from_params(params), {"result": "given", "steps": 0, "starts": 0}
+    m0 = rough if rough is not None else M.initial_baseline(rec, friction, fit_offset)
+    starts = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0)
     if isinstance(m0.friction, LuGre):
-        # A second start with a clear Stribeck hump: from the least-squares start, LM sometimes
-        # collapses Fs and vs to their lower bounds (measured: 3 of 48 null recordings, a 3x worse
-        # fit); keep whichever start fits the training samples better.
-        f = m0.friction
-        alt = eqx.tree_at(lambda m: (m.friction.Fs, m.friction.vs), m0,
-                          (jnp.asarray(1.5 * f.Fc), jnp.asarray(0.3 * scales["V"])))
-        starts.append(M.clip_into(space, alt))
-    best = None
+        starts.append(m0)
+    space = M.FitSpace(M.baseline_specs(starts[0], scales, fit_offset))
     w = np.asarray(weights)
+    tau = np.asarray(rec.torque)
+
+    def sse(m):
+        e = tau - M.predict(m, kin)
+        return float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf
+
+    screened = []
     for s0 in starts:
-        fitted, info = M.fit(s0, space, kin, rec.torque, weights)
-        sse = float(np.sum(w * (np.asarray(rec.torque) - M.predict(fitted, kin)) ** 2))
-        if best is None or sse < best[0]:
-            best = (sse, fitted, info)
-    return best[1], best[2]
+        s0 = M.clip_into(space, s0)
+        fitted, info = M.fit(s0, space, kin, tau, weights, max_steps=screen_steps) if len(starts) > 1 \
+            else (s0, {})
+        screened.append((sse(fitted), fitted))
+    screened.sort(key=lambda x: x[0])
+    best = None
+    for _, s0 in screened[:2]:
+        fitted, info = M.fit(s0, space, kin, tau, weights, max_steps=max_steps)
+        e = sse(fitted)
+        if best is None or e < best[0]:
+            best = (e, fitted, info)
+    info = dict(best[2])
+    info["starts"] = len(starts)
+    return best[1], info
 
 
 def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offset: bool = False,
-             alpha: float = 0.05, top_k: int | None = None, max_effects: int = 3, candidates=None,
+             alpha: float = 0.05, top_k: int | None = 4, max_effects: int = 3, candidates=None,
              progress: bool = True, block_s: float | None = None, max_steps: int = 80) -> dict:
     """Diagnose a :class:`~lugre_jax.io.Recording`; returns a dict (REPORT.json content + arrays).
 
@@ -121,9 +152,17 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     """
     from tqdm.auto import tqdm
 
+    from ._condition import condition
+
     t_start = time.time()
+    rough = M.initial_baseline(rec, friction, fit_offset)
+    f_r = rough.friction
+    rec, cond = condition(rec, float(rough.J), float(getattr(f_r, "sigma2", 0.0)))
     kin = M.kinematics_of(rec)
+    # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk
+    flags = cond.window + 2 if cond.source != "recording" else 0
     scales = M.data_scales(rec)
+    scales["noise"] = cond.torque_noise
     blocks = M.block_ids(rec.time, block_s)
     val = M.validation_mask(blocks)
     w = (~val).astype(float)
@@ -131,9 +170,11 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     n_train = int(w.sum())
     since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
 
-    base, info = fit_baseline(rec, kin, w, scales, friction, fit_offset, params)
+    base, info = fit_baseline(rec, kin, w, scales, friction, fit_offset, params, noise=cond.torque_noise)
     r0 = tau - M.predict(base, kin)
-    loc0 = L.locate(rec, r0, blocks, scales, alpha)
+    floor = cond.torque_noise
+    ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
+    loc0 = L.locate(rec, r0, blocks, scales, alpha, flags)
     kappa = loc0["kappa"]
     k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
     report = {
@@ -143,15 +184,24 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                                     % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
                                        rec.units["time"], int(val.sum()), rec.n)},
         "baseline": {"params": M.model_params(base), "rmse_nm": float(np.sqrt(np.mean(r0[~val] ** 2))),
-                     "validation_rmse_nm": _val_rmse(r0, val), "fit": info},
+                     "validation_rmse_nm": _val_rmse(r0, val), "fit": info,
+                     "noise_floor_nm": floor, "floor_ratio": ratio,
+                     "at_floor": bool(ratio <= 1.1),
+                     "shortcoming": None if ratio <= 1.1 else (
+                         f"the baseline's validation RMSE is {ratio:.3g}x the estimated noise floor: located "
+                         "structure may be the baseline's own misfit, not missing physics"),
+                     "conditioning": cond.to_json()},
         "alpha": alpha, "kappa_long_run_variance": kappa,
     }
+    cext = {"position_resolution": max(cond.quantisation, cond.position_noise),
+            "accel_bandwidth_hz": _sg_bandwidth(cond.window, scales["fs"]) if cond.source != "recording"
+            else 0.25 * scales["fs"]}
     current, r_cur, loc_cur, k_cur = base, r0, loc0, k0
     accepted, steps_log = [], []
     sse_cur = _sse(r_cur, w)
     pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
     while loc_cur["located"] and len(accepted) < max_effects:
-        ctx = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev)
+        ctx = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev, cext)
         scored = []
         names = [n for n in pool if n not in [a["name"] for a in accepted]]
         it = tqdm(names, desc=f"score candidates (step {len(accepted) + 1})", disable=not progress, leave=False)
@@ -195,16 +245,24 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             bic1 = _bic(sse1, kap1, n_train, k1)
             dbic = bic1 - _bic(sse_cur, kap1, n_train, k_cur)
             p_val = _paired_block_test(r_cur, r1, blocks, val)
+            cand = fitted.candidates[-1]
+            why = cand.implausible(ctx | {"baseline": fitted})
+            zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand)
+            if why is None and not zmax >= 3.0:
+                why = (f"not identifiable on this excitation: its parameters are within "
+                       f"{zmax:.2g} standard errors of no effect")
             trials.append({"name": s["name"], "model": fitted, "r": r1, "k": k1, "sse": sse1, "bic": bic1,
                            "delta_bic": dbic, "kappa": kap1, "p_validation": p_val,
-                           "validation_rmse_nm": _val_rmse(r1, val), "fit": finfo})
+                           "validation_rmse_nm": _val_rmse(r1, val), "fit": finfo,
+                           "identifiability_z": zmax, "rejected_because": why})
         steps_log.append({
             "step": len(accepted) + 1,
             "scores": [{"name": s["name"], "projected_sse_reduction": s["score"]} for s in scored],
-            "joint_refits": [{k: t[k] for k in ("name", "delta_bic", "p_validation", "validation_rmse_nm")}
+            "joint_refits": [{k: t[k] for k in ("name", "delta_bic", "p_validation", "validation_rmse_nm",
+                                                 "identifiability_z", "rejected_because")}
                              for t in trials]})
         ok = [t for t in trials if t["delta_bic"] < 0 and t["p_validation"] < alpha
-              and t["validation_rmse_nm"] < _val_rmse(r_cur, val)]
+              and t["validation_rmse_nm"] < _val_rmse(r_cur, val) and t["rejected_because"] is None]
         if not ok:
             break
         best = min(ok, key=lambda t: t["delta_bic"])
@@ -215,7 +273,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                          "delta_bic": best["delta_bic"], "p_validation": best["p_validation"]})
         current, r_cur, k_cur = best["model"], best["r"], best["k"]
         sse_cur = best["sse"]
-        loc_cur = L.locate(rec, r_cur, blocks, scales, alpha)
+        loc_cur = L.locate(rec, r_cur, blocks, scales, alpha, flags)
 
     located = [_region_summary(x) for x in loc0["located"]]
     remaining = [_region_summary(x) for x in loc_cur["located"]] if accepted else located
@@ -242,9 +300,15 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         "selection_log": steps_log,
         "seconds": time.time() - t_start,
     })
-    report["_arrays"] = {"kin": kin, "baseline_model": base, "improved_model": current, "r0": r0,
+    report["_arrays"] = {"rec": rec, "kin": kin, "baseline_model": base, "improved_model": current, "r0": r0,
                          "r1": r_cur, "val": val, "blocks": blocks, "loc0": loc0, "loc1": loc_cur}
     return report
+
+
+def _sg_bandwidth(W: int, fs: float) -> float:
+    """-3 dB frequency [Hz] of the order-3 Savitzky-Golay derivative of window W (Schafer 2011:
+    f_c ~ (order + 1)/(3.2 W - 4.6) * fs/2 for the smoother; used as the bandwidth of the acceleration)."""
+    return float(4.0 / (3.2 * W - 4.6) * fs / 2)
 
 
 def _region_summary(x):

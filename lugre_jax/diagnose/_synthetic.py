@@ -143,7 +143,7 @@ def make_recording(seed: int, effect: str | None = None, strength: float = 1.0,
     t, v, a = velocity_profile(seed, duration, dt_fine)
     theta = np.concatenate([[60.0], 60.0 + np.cumsum(0.5 * (v[1:] + v[:-1]) * dt_fine)])
     kin = Kinematics(jnp.asarray(t), jnp.asarray(theta), jnp.asarray(v), jnp.asarray(a),
-                     jnp.asarray(np.diff(t)))
+                     jnp.asarray(np.diff(t)), jnp.asarray(np.diff(theta)), jnp.asarray(0.0))
     base = JointModel(jnp.asarray(TRUE_J), true_friction(), jnp.asarray(0.0))
     tau0 = predict(base, kin)
     eff = None

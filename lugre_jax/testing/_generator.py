@@ -1,0 +1,492 @@
+"""An INDEPENDENT closed-loop recording generator, for testing the diagnose tool on recordings that
+this project's simulator did not make (like ``numpy.testing``: a reference, not part of the science).
+
+Plant: a rigid rotary joint (Li et al., Electronics 2020, 9, 284, eq. 1-2) with LuGre friction
+(eq. 9) under a velocity PI loop, written here from the equations with plain numpy and integrated by
+scipy's ``solve_ivp`` (LSODA or Radau, tight tolerance), segment by segment between the breakpoints
+of the reference so that sharp steps are not stepped over. Nothing of ``lugre_jax``'s simulator or
+friction code is imported: an error there cannot cancel an error in the diagnosis.
+
+Measured signals: torque = the PI's command + white noise; velocity = true velocity + white noise
+(or no velocity column); position quantised to the encoder step. Units: the paper's (s, deg, deg/s,
+N*m; J in N*m*s^2/deg, sigma0 in N*m/deg, sigma1 and sigma2 in N*m*s/deg).
+
+Effects (each the physics of the diagnose candidate of the same ``id``, written again here):
+``gravity``, ``asymmetry``, ``position_ripple``, ``thermal_drift``, ``stribeck_shape``,
+``load_dependent``, ``compliance`` (two-mass joint with a spring) and ``backlash`` (a dead band in
+front of a share of the friction, with its own bristle state).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import ClassVar
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+DEG = math.pi / 180.0
+
+
+# ---------------------------------------------------------------------------------------------
+# Plant, controller, sensors
+
+
+@dataclasses.dataclass(frozen=True)
+class Plant:
+    """Rigid joint with LuGre friction (paper units). Defaults: the plant of issue #20."""
+
+    J: float = 0.1
+    Fc: float = 1.2
+    Fs: float = 2.6
+    vs: float = 0.08
+    sigma2: float = 1.1
+    sigma0: float = 60.0
+    sigma1: float = 1.5
+    delta: float = 2.0
+
+    def g(self, v):
+        return self.Fc + (self.Fs - self.Fc) * np.exp(-np.abs(v / self.vs) ** self.delta)
+
+
+@dataclasses.dataclass(frozen=True)
+class VelocityPI:
+    """``tau = kp*(v_ref - v) + ki*int(v_ref - v)`` on the TRUE velocity (N*m*s/deg, N*m/deg)."""
+
+    kp: float = 6.0
+    ki: float = 40.0
+
+
+@dataclasses.dataclass(frozen=True)
+class Sensors:
+    """Sampling and measurement noise: ``fs`` [Hz]; torque noise std [N*m]; velocity noise std
+    [deg/s]; position quantisation step [deg] (0: none); ``velocity_column`` False leaves the
+    velocity out (the recording then carries the quantised position's central difference)."""
+
+    fs: float = 200.0
+    torque_noise: float = 0.08
+    velocity_noise: float = 0.003
+    quantisation: float = 0.0005
+    velocity_column: bool = True
+
+
+# ---------------------------------------------------------------------------------------------
+# Excitations: velocity references v_ref(t) [deg/s] with their breakpoints
+
+
+class Excitation:
+    """A velocity reference. ``v_ref(t)``, ``duration`` [s] and ``breakpoints`` (times where the
+    reference or its derivative jumps; the integrator restarts there)."""
+
+    duration: float
+    id: ClassVar[str] = "excitation"
+
+    def v_ref(self, t):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def breakpoints(self):
+        return []
+
+
+def _smoothstep(w):
+    w = np.clip(w, 0.0, 1.0)
+    return w * w * (3 - 2 * w)
+
+
+@dataclasses.dataclass(frozen=True)
+class Staircase(Excitation):
+    """Velocity staircase: every speed in ``speeds`` out (+) and back (-), ``dwell`` s per level,
+    ``transition`` s smoothstep between levels (0 = sharp steps), the schedule ``repeats`` times,
+    each repeat in its own random order (``seed``). Issue #20's recording: the defaults (288 s)."""
+
+    speeds: tuple = tuple(float(x) for x in np.round(np.logspace(-2, np.log10(4.0), 8), 4))
+    dwell: float = 9.0
+    transition: float = 0.5
+    repeats: int = 2
+    seed: int = 0
+    id: ClassVar[str] = "staircase"
+
+    def levels(self):
+        rng = np.random.default_rng(self.seed)
+        out = []
+        for k in range(self.repeats):
+            order = list(self.speeds) if k == 0 else list(rng.permutation(self.speeds))
+            for s in order:
+                out += [s, -s]
+        return np.array(out, float)
+
+    @property
+    def duration(self):
+        return self.dwell * len(self.levels())
+
+    def v_ref(self, t):
+        lv = self.levels()
+        t = np.asarray(t, float)
+        k = np.clip((t // self.dwell).astype(int), 0, len(lv) - 1)
+        prev = np.where(k > 0, lv[np.maximum(k - 1, 0)], 0.0)
+        if self.transition <= 0:
+            return lv[k]
+        w = _smoothstep((t - k * self.dwell) / self.transition)
+        return prev + (lv[k] - prev) * w
+
+    def breakpoints(self):
+        n = len(self.levels())
+        bp = [k * self.dwell for k in range(1, n)]
+        if self.transition > 0:
+            bp += [k * self.dwell + self.transition for k in range(n)]
+        return sorted(bp)
+
+
+@dataclasses.dataclass(frozen=True)
+class SineSweep(Excitation):
+    """Velocity chirp ``amplitude*sin(phase(t))`` from ``f0`` to ``f1`` Hz (log sweep) plus a slow
+    drift ``bias`` [deg/s], so that the position wanders over a range; 0.5 s fade in."""
+
+    amplitude: float = 2.0
+    f0: float = 0.05
+    f1: float = 2.0
+    duration: float = 120.0
+    bias: float = 0.3
+    id: ClassVar[str] = "sine_sweep"
+
+    def v_ref(self, t):
+        t = np.asarray(t, float)
+        k = math.log(self.f1 / self.f0) / self.duration
+        ph = 2 * np.pi * self.f0 * np.expm1(k * t) / k
+        fade = _smoothstep(t / 0.5)
+        return fade * (self.amplitude * np.sin(ph) + self.bias * np.sin(2 * np.pi * t / self.duration))
+
+
+@dataclasses.dataclass(frozen=True)
+class Multisine(Excitation):
+    """Sum of ``n`` velocity sines, log-spaced from ``f0`` to ``f1`` Hz, Schroeder phases, scaled to
+    peak ``amplitude`` [deg/s]; 0.5 s fade in."""
+
+    amplitude: float = 2.0
+    f0: float = 0.02
+    f1: float = 1.5
+    n: int = 12
+    duration: float = 120.0
+    id: ClassVar[str] = "multisine"
+
+    def _parts(self):
+        f = np.logspace(np.log10(self.f0), np.log10(self.f1), self.n)
+        ph = -np.pi * np.arange(1, self.n + 1) * np.arange(self.n) / self.n
+        tt = np.linspace(0, self.duration, 20001)
+        peak = np.max(np.abs(np.sum(np.sin(2 * np.pi * f[:, None] * tt + ph[:, None]), 0)))
+        return f, ph, self.amplitude / peak
+
+    def v_ref(self, t):
+        f, ph, s = self._parts()
+        t = np.asarray(t, float)
+        v = s * np.sum(np.sin(2 * np.pi * f[:, None] * np.atleast_1d(t) + ph[:, None]), 0)
+        return (_smoothstep(t / 0.5) * v).reshape(np.shape(t))
+
+
+@dataclasses.dataclass(frozen=True)
+class PositionSine(Excitation):
+    """Position sine of ``amplitude`` [deg] at ``frequency`` [Hz], as a velocity reference (the paper's
+    sine-tracking runs: 3 deg at 0.4 Hz)."""
+
+    amplitude: float = 3.0
+    frequency: float = 0.4
+    duration: float = 30.0
+    id: ClassVar[str] = "position_sine"
+
+    def v_ref(self, t):
+        w = 2 * np.pi * self.frequency
+        return self.amplitude * w * np.cos(w * np.asarray(t, float))
+
+
+# ---------------------------------------------------------------------------------------------
+# Effects
+
+
+@dataclasses.dataclass(frozen=True)
+class Effect:
+    """Base of the effects; each hooks into the plant's right-hand side in one of a few places."""
+
+    id: ClassVar[str] = "effect"
+
+    def load_torque(self, t, theta, v):
+        """An extra resisting torque on the joint [N*m]."""
+        return 0.0
+
+    def friction_scale(self, t, t_mid):
+        return 1.0
+
+
+@dataclasses.dataclass(frozen=True)
+class Gravity(Effect):
+    amplitude: float = 0.15  # N*m
+    phase: float = -0.3  # rad; G = A*sin(theta[rad] + phase)
+    id: ClassVar[str] = "gravity"
+
+    def load_torque(self, t, theta, v):
+        return self.amplitude * np.sin(theta * DEG + self.phase)
+
+
+@dataclasses.dataclass(frozen=True)
+class Asymmetry(Effect):
+    """Friction offset + dsigma2*|v|: Fc is Fc+offset moving positive, Fc-offset negative."""
+
+    offset: float = 0.06  # N*m (5 % of Fc)
+    dsigma2: float = 0.0  # N*m*s/deg
+    id: ClassVar[str] = "asymmetry"
+
+    def load_torque(self, t, theta, v):
+        return self.offset + self.dsigma2 * abs(v)
+
+
+@dataclasses.dataclass(frozen=True)
+class PositionRipple(Effect):
+    amplitude: float = 0.07  # N*m
+    period: float = 5.0  # deg
+    phase: float = 1.0
+    id: ClassVar[str] = "position_ripple"
+
+    def load_torque(self, t, theta, v):
+        return self.amplitude * np.sin(2 * np.pi * theta / self.period + self.phase)
+
+
+@dataclasses.dataclass(frozen=True)
+class ThermalDrift(Effect):
+    """The whole friction torque scaled by ``1 + rate*(t - t_mid)`` [1/s]."""
+
+    rate: float = -1e-4
+    id: ClassVar[str] = "thermal_drift"
+
+    def friction_scale(self, t, t_mid):
+        return 1.0 + self.rate * (t - t_mid)
+
+
+@dataclasses.dataclass(frozen=True)
+class StribeckShape(Effect):
+    delta: float = 1.0
+    id: ClassVar[str] = "stribeck_shape"
+
+
+@dataclasses.dataclass(frozen=True)
+class LoadDependent(Effect):
+    """Extra friction ``mu*|J*a|*tanh(v/v_eps)`` (solved exactly: the acceleration depends on it)."""
+
+    mu: float = 0.2
+    v_eps: float = 0.02
+    id: ClassVar[str] = "load_dependent"
+
+
+@dataclasses.dataclass(frozen=True)
+class Compliance(Effect):
+    """Two-mass joint: ``J_load`` of the total ``J`` sits behind a spring of natural frequency ``fn``
+    [Hz] and damping ratio ``zeta``; friction acts on the motor side."""
+
+    fn: float = 3.0
+    zeta: float = 0.05
+    J_load: float = 0.01
+    id: ClassVar[str] = "compliance"
+
+
+@dataclasses.dataclass(frozen=True)
+class Backlash(Effect):
+    """A dead band of total ``width`` [deg] in front of ``share`` of the friction, which has its own
+    bristle state and is felt only while the band is closed."""
+
+    width: float = 0.01
+    share: float = 0.05
+    id: ClassVar[str] = "backlash"
+
+
+EFFECTS = {c.id: c for c in (Gravity, Asymmetry, PositionRipple, ThermalDrift, StribeckShape,
+                             LoadDependent, Compliance, Backlash)}
+
+
+# ---------------------------------------------------------------------------------------------
+# Simulation
+
+
+@dataclasses.dataclass
+class GeneratedRecording:
+    """Sampled measurements (``velocity`` None when the sensors give no velocity column), the true
+    signals and the settings that made them. Units: s, deg, deg/s, N*m."""
+
+    time: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray | None
+    torque: np.ndarray
+    velocity_ref: np.ndarray
+    true: dict
+    settings: dict
+
+    def columns(self) -> dict:
+        """CSV columns in the project's recording format (``time_s, position_deg, ...``); without a
+        velocity column the position's central difference stands in for it (documented so)."""
+        v = self.velocity if self.velocity is not None else np.gradient(self.position, self.time)
+        return {"time_s": self.time, "position_deg": self.position, "velocity_deg_s": v,
+                "torque_nm": self.torque, "velocity_ref_deg_s": self.velocity_ref}
+
+    def to_recording(self):
+        """A :class:`lugre_jax.io.Recording` (imported lazily: this module stays independent)."""
+        from ..io import recording_from_arrays
+
+        c = self.columns()
+        return recording_from_arrays(
+            c["time_s"], c["position_deg"], c["velocity_deg_s"], c["torque_nm"],
+            source=f"testing.generate({self.settings['excitation']}, {self.settings['effects']})",
+            extra={"velocity_ref_deg_s": c["velocity_ref_deg_s"]},
+            meta={"velocity_measured": self.velocity is not None, "generator": "lugre_jax.testing"})
+
+
+class _RHS:
+    """Closed-loop right-hand side. State: theta, omega, z, xi (PI integral) [+ e, de (compliance)]
+    [+ theta_load, z_load (backlash)]."""
+
+    def __init__(self, plant, pi, exc, effects, t_mid):
+        self.p, self.pi, self.exc, self.t_mid = plant, pi, exc, t_mid
+        self.effects = effects
+        d = {e.id: e for e in effects}
+        self.comp = d.get("compliance")
+        self.back = d.get("backlash")
+        self.loaddep = d.get("load_dependent")
+        delta = d["stribeck_shape"].delta if "stribeck_shape" in d else plant.delta
+        self.plant_g = dataclasses.replace(plant, delta=delta).g
+        self.n = 4 + (2 if self.comp else 0) + (2 if self.back else 0)
+
+    def _bristle(self, z, v):
+        p = self.p
+        g = self.plant_g(v)
+        dz = v - p.sigma0 * abs(v) * z / g
+        return p.sigma0 * z + p.sigma1 * dz + p.sigma2 * v, dz
+
+    def parts(self, t, y):
+        p = self.p
+        th, om, z, xi = y[:4]
+        vr = float(self.exc.v_ref(t))
+        u = self.pi.kp * (vr - om) + self.pi.ki * xi
+        scale = 1.0
+        load = 0.0
+        for e in self.effects:
+            scale *= e.friction_scale(t, self.t_mid)
+            load += e.load_torque(t, th, om)
+        F, dz = self._bristle(z, om)
+        extra = {}
+        k = 4
+        if self.back is not None:
+            b = self.back
+            thl, zl = y[k + 0 if not self.comp else k + 2], y[k + 1 if not self.comp else k + 3]
+            half = 0.5 * b.width
+            gap = th - thl
+            engaged = (gap >= half and om > 0) or (gap <= -half and om < 0)
+            vl = om if engaged else 0.0
+            Fl, dzl = self._bristle(zl, vl)
+            F = (1 - b.share) * F + (b.share * Fl if engaged else 0.0)
+            extra["back"] = (vl, dzl)
+        F = scale * F
+        J_motor = p.J
+        spring = 0.0
+        if self.comp is not None:
+            c = self.comp
+            e, de = y[4], y[5]
+            w = 2 * np.pi * c.fn
+            # load-minus-motor angle e: J_load*(a_m + e'') = -J_load*(w^2 e + 2 zeta w e')
+            spring = -c.J_load * (w * w * e + 2 * c.zeta * w * de)  # torque the load puts on the motor
+            J_motor = p.J - c.J_load
+        R = u - F - load + spring
+        if self.loaddep is not None:
+            s = self.loaddep.mu * np.tanh(om / self.loaddep.v_eps)
+            # J*a + mu*|J*a|*tanh(v/v_eps) = R: solve for J*a on the branch of sign(R)
+            Ja = R / (1.0 + s * np.sign(R)) if R != 0 else 0.0
+            acc = Ja / J_motor
+        else:
+            acc = R / J_motor
+        return u, vr, acc, dz, extra, F + load
+
+    def __call__(self, t, y):
+        th, om, z, xi = y[:4]
+        u, vr, acc, dz, extra, _ = self.parts(t, y)
+        out = [om, acc, dz, vr - om]
+        if self.comp is not None:
+            c = self.comp
+            w = 2 * np.pi * c.fn
+            e, de = y[4], y[5]
+            out += [de, -w * w * e - 2 * c.zeta * w * de - acc]
+        if self.back is not None:
+            out += list(extra["back"])
+        return out
+
+
+def generate(excitation: Excitation | None = None, effects=(), plant: Plant | None = None,
+             controller: VelocityPI | None = None, sensors: Sensors | None = None, seed: int = 0,
+             method: str = "LSODA", rtol: float = 1e-9, atol: float = 1e-11) -> GeneratedRecording:
+    """Simulate the closed loop from rest and sample it; see the module docstring.
+
+    ``effects``: instances of the classes in :data:`EFFECTS`. ``seed``: measurement noise. The
+    integration is restarted at every breakpoint of the excitation; ``rtol``/``atol`` apply to the
+    state (deg, deg/s, deg, deg*s). Raises ``RuntimeError`` if the integrator fails.
+    """
+    exc = excitation if excitation is not None else Staircase()
+    plant = plant or Plant()
+    pi = controller or VelocityPI()
+    sens = sensors or Sensors()
+    effects = tuple(effects)
+    T = float(exc.duration)
+    ts = np.arange(0.0, T + 0.5 / sens.fs, 1.0 / sens.fs)
+    rhs = _RHS(plant, pi, exc, effects, 0.5 * T)
+    y = np.zeros(rhs.n)
+    edges = [0.0] + [b for b in exc.breakpoints() if 0 < b < T] + [T]
+    Y = np.empty((ts.size, rhs.n))
+    for a, b in zip(edges[:-1], edges[1:]):
+        sel = (ts >= a) & ((ts < b) | (b == T))
+        sol = solve_ivp(rhs, (a, b), y, method=method, t_eval=ts[sel], rtol=rtol, atol=atol,
+                        max_step=min(0.05, b - a))
+        if not sol.success:
+            raise RuntimeError(f"solve_ivp failed on [{a}, {b}] s: {sol.message}")
+        Y[sel] = sol.y.T
+        y = sol.y[:, -1] if sol.t.size and sol.t[-1] == b else _endpoint(rhs, a, b, y, method, rtol, atol)
+    u = np.empty(ts.size)
+    vr = np.empty(ts.size)
+    acc = np.empty(ts.size)
+    fr = np.empty(ts.size)
+    for i, (t, yy) in enumerate(zip(ts, Y)):
+        u[i], vr[i], acc[i], _, _, fr[i] = rhs.parts(t, yy)
+    rng = np.random.default_rng(seed)
+    tau = u + sens.torque_noise * rng.standard_normal(ts.size)
+    vel = Y[:, 1] + sens.velocity_noise * rng.standard_normal(ts.size) if sens.velocity_column else None
+    pos = Y[:, 0]
+    if sens.quantisation > 0:
+        pos = sens.quantisation * np.round(pos / sens.quantisation)
+    eff_torque = u - plant.J * acc - _plain_friction(plant, rhs, ts, Y)
+    settings = {"excitation": exc.id, "excitation_params": dataclasses.asdict(exc),
+                "effects": [e.id for e in effects], "effect_params": [dataclasses.asdict(e) for e in effects],
+                "plant": dataclasses.asdict(plant), "controller": dataclasses.asdict(pi),
+                "sensors": dataclasses.asdict(sens), "seed": seed, "method": method, "rtol": rtol, "atol": atol}
+    true = {"theta": Y[:, 0], "omega": Y[:, 1], "z": Y[:, 2], "acceleration": acc, "torque": u,
+            "friction_and_load": fr, "effect_torque": eff_torque}
+    return GeneratedRecording(ts, pos, vel, tau, vr, true, settings)
+
+
+def _endpoint(rhs, a, b, y, method, rtol, atol):
+    sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol, max_step=min(0.05, b - a))
+    return sol.y[:, -1]
+
+
+def _plain_friction(plant, rhs, ts, Y):
+    """The effect-free joint's friction along the true motion (for the effect's torque): LuGre of
+    ``plant`` driven by the true velocity, its z integrated again without the effect."""
+    if not any(e.id in ("stribeck_shape", "backlash", "thermal_drift") for e in rhs.effects):
+        g = plant.g(Y[:, 1])
+        dz = Y[:, 1] - plant.sigma0 * np.abs(Y[:, 1]) * Y[:, 2] / g
+        return plant.sigma0 * Y[:, 2] + plant.sigma1 * dz + plant.sigma2 * Y[:, 1]
+    from scipy.interpolate import CubicSpline
+
+    vf = CubicSpline(ts, Y[:, 1])
+
+    def f(t, z):
+        v = float(vf(t))
+        return [v - plant.sigma0 * abs(v) * z[0] / plant.g(v)]
+
+    sol = solve_ivp(f, (ts[0], ts[-1]), [0.0], method="LSODA", t_eval=ts, rtol=1e-9, atol=1e-12,
+                    max_step=0.05)
+    z = sol.y[0]
+    v = Y[:, 1]
+    return plant.sigma0 * z + plant.sigma1 * (v - plant.sigma0 * np.abs(v) * z / plant.g(v)) + plant.sigma2 * v
