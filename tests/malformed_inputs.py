@@ -133,6 +133,16 @@ def _dup_torque() -> str:
     return "\n".join([lines[0] + ",torque_nm"] + [ln + ",0" for ln in lines[1:]]) + "\n"
 
 
+def _constant_torque() -> str:
+    lines = _rec_lines()
+    return "\n".join([lines[0]] + [",".join(ln.split(",")[:3] + ["0.5"]) for ln in lines[1:]]) + "\n"
+
+
+def _strib_dup() -> str:
+    lines = stribeck_text().splitlines()
+    return "\n".join([lines[0] + ",torque_nm"] + [ln + ",0" for ln in lines[1:]]) + "\n"
+
+
 def _ident(d: Path, text: str | bytes | None = None, *extra: str, data: str | None = None) -> list[str]:
     src = data if data is not None else _w(d, "data.csv", stribeck_text() if text is None else text)
     return ["identify", src, "--out", str(d / "out" / "result.json"), "--scheme", "whole", "--method", "pso",
@@ -183,34 +193,52 @@ def _foreign_folder(d: Path) -> str:
 
 CASES: list[Case] = [
     # --- recording CSV (diagnose)
-    Case("rec-undecodable", "recording: undecodable bytes (0xff)", lambda d: _diag(d, recording_text().encode()[:200] + b"\xff\xfe" + recording_text().encode()[200:])),
-    Case("rec-latin1", "recording: Latin-1 header (non-UTF-8)", lambda d: _diag(d, recording_text().replace("torque_nm", "torque_nm_\xb0").encode("latin-1"))),
+    Case("rec-undecodable", "recording: undecodable bytes (0xff)",
+         lambda d: _diag(d, recording_text().encode()[:200] + b"\xff\xfe" + recording_text().encode()[200:])),
+    Case("rec-latin1", "recording: Latin-1 header (non-UTF-8)",
+         lambda d: _diag(d, recording_text().replace("torque_nm", "torque_nm_\xb0").encode("latin-1"))),
     Case("rec-10-rows", "recording: 10 rows", lambda d: _diag(d, "\n".join(_rec_lines()[:11]) + "\n")),
     Case("rec-never-moves", "recording: the joint never moves", lambda d: _diag(d, _still())),
     Case("rec-irregular-time", "recording: irregular time steps (1-50 ms)", lambda d: _diag(d, _irregular())),
-    Case("rec-gap", "recording: one 10-sample gap in time", lambda d: _diag(d, "\n".join(_rec_lines()[:200] + _rec_lines()[210:]) + "\n")),
-    Case("rec-dup-column", "recording: duplicated torque_nm column (copy all zeros)", lambda d: _diag(d, _dup_torque())),
-    Case("rec-renamed-column", "recording: column renamed (torque -> torque_Nm)", lambda d: _diag(d, recording_text().replace("torque_nm", "torque_Nm"))),
+    Case("rec-gap", "recording: one 10-sample gap in time",
+         lambda d: _diag(d, "\n".join(_rec_lines()[:200] + _rec_lines()[210:]) + "\n")),
+    Case("rec-dup-column", "recording: duplicated torque_nm column (copy all zeros)",
+         lambda d: _diag(d, _dup_torque())),
+    Case("rec-renamed-column", "recording: column renamed (torque -> torque_Nm)",
+         lambda d: _diag(d, recording_text().replace("torque_nm", "torque_Nm"))),
     Case("rec-semicolons", "recording: ';'-separated", lambda d: _diag(d, recording_text().replace(",", ";"))),
     Case("rec-tabs", "recording: tab-separated", lambda d: _diag(d, recording_text().replace(",", "\t"))),
     Case("rec-nan", "recording: NaN cell", lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 50, 3, "nan")))),
     Case("rec-inf", "recording: inf cell", lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 60, 2, "inf")))),
-    Case("rec-text-cell", "recording: non-numeric cell", lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 70, 1, "12x5")))),
-    Case("rec-row-cut", "recording: row cut short", lambda d: _diag(d, _rec_edit(lambda ls: ls.__setitem__(80, ls[80][:8])))),
-    Case("rec-extra-cell", "recording: row with an extra cell", lambda d: _diag(d, _rec_edit(lambda ls: ls.__setitem__(90, ls[90] + ",1")))),
-    Case("rec-time-backwards", "recording: time goes backwards", lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 100, 0, "0.5")))),
-    Case("rec-constant-torque", "recording: torque constant (disconnected sensor)", lambda d: _diag(d, "\n".join([ln if i == 0 else ",".join(ln.split(",")[:3] + ["0.5"]) for i, ln in enumerate(_rec_lines())]) + "\n")),
+    Case("rec-text-cell", "recording: non-numeric cell",
+         lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 70, 1, "12x5")))),
+    Case("rec-row-cut", "recording: row cut short",
+         lambda d: _diag(d, _rec_edit(lambda ls: ls.__setitem__(80, ls[80][:8])))),
+    Case("rec-extra-cell", "recording: row with an extra cell",
+         lambda d: _diag(d, _rec_edit(lambda ls: ls.__setitem__(90, ls[90] + ",1")))),
+    Case("rec-time-backwards", "recording: time goes backwards",
+         lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 100, 0, "0.5")))),
+    Case("rec-constant-torque", "recording: torque constant (disconnected sensor)",
+         lambda d: _diag(d, _constant_torque())),
     Case("rec-empty", "recording: empty file", lambda d: _diag(d, "")),
-    Case("rec-missing", "recording: no such file", lambda d: ["diagnose", str(d / "nope.csv"), "--out", str(d / "out" / "r.json")]),
-    Case("rec-is-folder", "recording: a folder given", lambda d: ["diagnose", _existing_dir(d), "--out", str(d / "out" / "r.json")]),
+    Case("rec-missing", "recording: no such file",
+         lambda d: ["diagnose", str(d / "nope.csv"), "--out", str(d / "out" / "r.json")]),
+    Case("rec-is-folder", "recording: a folder given",
+         lambda d: ["diagnose", _existing_dir(d), "--out", str(d / "out" / "r.json")]),
     # --- diagnose outputs and options
-    Case("diag-out-dir", "diagnose: --out names an existing folder", lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", _existing_dir(d)]),
-    Case("diag-out-parent-file", "diagnose: --out inside a path that is a file", lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", _existing_file(d) + "/r.json"]),
-    Case("diag-plots-file", "diagnose: --plots names an existing file", lambda d: _diag(d, recording_text(), "--plots", _existing_file(d))),
-    Case("diag-plots-foreign", "diagnose: --plots a non-empty folder not made by diagnose", lambda d: _diag(d, recording_text(), "--plots", _foreign_folder(d))),
-    Case("diag-out-not-json", "diagnose: --out without .json", lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", str(d / "report.txt")]),
+    Case("diag-out-dir", "diagnose: --out names an existing folder",
+         lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", _existing_dir(d)]),
+    Case("diag-out-parent-file", "diagnose: --out inside a path that is a file",
+         lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", _existing_file(d) + "/r.json"]),
+    Case("diag-plots-file", "diagnose: --plots names an existing file",
+         lambda d: _diag(d, recording_text(), "--plots", _existing_file(d))),
+    Case("diag-plots-foreign", "diagnose: --plots a non-empty folder not made by diagnose",
+         lambda d: _diag(d, recording_text(), "--plots", _foreign_folder(d))),
+    Case("diag-out-not-json", "diagnose: --out without .json",
+         lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", str(d / "report.txt")]),
     Case("diag-alpha", "diagnose: --alpha 2", lambda d: _diag(d, recording_text(), "--alpha", "2")),
-    Case("diag-candidates", "diagnose: unknown --candidates", lambda d: _diag(d, recording_text(), "--candidates", "gravity,warp_drive")),
+    Case("diag-candidates", "diagnose: unknown --candidates",
+         lambda d: _diag(d, recording_text(), "--candidates", "gravity,warp_drive")),
     Case("diag-block", "diagnose: --block-s -1", lambda d: _diag(d, recording_text(), "--block-s", "-1")),
     # --- --params JSON
     Case("par-J0", "--params: J = 0", lambda d: _diag_params(d, _with(J=0))),
@@ -222,44 +250,67 @@ CASES: list[Case] = [
     Case("par-nan", "--params: NaN", lambda d: _diag_params(d, json.dumps(GOOD_PARAMS).replace("2.0", "NaN"))),
     Case("par-Fs-below-Fc", "--params: Fs < Fc, no reason given", lambda d: _diag_params(d, _with(Fs=0.5))),
     Case("par-unknown-key", "--params: unknown key", lambda d: _diag_params(d, _with(sigma3=1.0))),
-    Case("par-missing-key", "--params: missing key", lambda d: _diag_params(d, {k: v for k, v in GOOD_PARAMS.items() if k != "sigma0"})),
+    Case("par-missing-key", "--params: missing key",
+         lambda d: _diag_params(d, {k: v for k, v in GOOD_PARAMS.items() if k != "sigma0"})),
     Case("par-not-json", "--params: not JSON", lambda d: _diag_params(d, "{'J': 1}")),
     Case("par-array", "--params: a JSON array", lambda d: _diag_params(d, [1, 2, 3])),
     Case("par-model", "--params: unknown friction_model", lambda d: _diag_params(d, _with(friction_model="Dahl"))),
-    Case("par-units", "--params: 1000x too large for the recording (wrong units)", lambda d: _diag_params(d, _with(Fc=1e4, Fs=1.5e4, sigma2=3e3))),
+    Case("par-units", "--params: 1000x too large for the recording (wrong units)",
+         lambda d: _diag_params(d, _with(Fc=1e4, Fs=1.5e4, sigma2=3e3))),
     # --- Stribeck CSV / EPOS (identify)
-    Case("str-undecodable", "Stribeck CSV: undecodable bytes", lambda d: _ident(d, stribeck_text().encode()[:100] + b"\xff" + stribeck_text().encode()[100:])),
+    Case("str-undecodable", "Stribeck CSV: undecodable bytes",
+         lambda d: _ident(d, stribeck_text().encode()[:100] + b"\xff" + stribeck_text().encode()[100:])),
     Case("str-semicolons", "Stribeck CSV: ';'-separated", lambda d: _ident(d, stribeck_text().replace(",", ";"))),
-    Case("str-dup-column", "Stribeck CSV: duplicated column", lambda d: _ident(d, _strib_edit(lambda ls: [ls.__setitem__(i, ls[i] + (",torque_nm" if i == 0 else ",0")) for i in range(len(ls))]))),
-    Case("str-renamed", "Stribeck CSV: column renamed", lambda d: _ident(d, stribeck_text().replace("velocity_deg_s", "velocity"))),
-    Case("str-nan", "Stribeck CSV: NaN torque", lambda d: _ident(d, _strib_edit(lambda ls: ls.__setitem__(5, ls[5].replace(ls[5].split(",")[1], "nan"))))),
-    Case("str-row-cut", "Stribeck CSV: row cut short", lambda d: _ident(d, _strib_edit(lambda ls: ls.__setitem__(7, ls[7].split(",")[0])))),
-    Case("str-branch", "Stribeck CSV: unknown branch", lambda d: _ident(d, _strib_edit(lambda ls: ls.__setitem__(9, ls[9].replace("accel", "up"))))),
-    Case("str-few-points", "Stribeck CSV: 3 set-points", lambda d: _ident(d, "velocity_deg_s,torque_nm\n0.1,1\n0.2,1.1\n0.4,1.2\n")),
+    Case("str-dup-column", "Stribeck CSV: duplicated column",
+         lambda d: _ident(d, _strib_dup())),
+    Case("str-renamed", "Stribeck CSV: column renamed",
+         lambda d: _ident(d, stribeck_text().replace("velocity_deg_s", "velocity"))),
+    Case("str-nan", "Stribeck CSV: NaN torque",
+         lambda d: _ident(d, _strib_edit(lambda ls: ls.__setitem__(5, ls[5].replace(ls[5].split(",")[1], "nan"))))),
+    Case("str-row-cut", "Stribeck CSV: row cut short",
+         lambda d: _ident(d, _strib_edit(lambda ls: ls.__setitem__(7, ls[7].split(",")[0])))),
+    Case("str-branch", "Stribeck CSV: unknown branch",
+         lambda d: _ident(d, _strib_edit(lambda ls: ls.__setitem__(9, ls[9].replace("accel", "up"))))),
+    Case("str-few-points", "Stribeck CSV: 3 set-points",
+         lambda d: _ident(d, "velocity_deg_s,torque_nm\n0.1,1\n0.2,1.1\n0.4,1.2\n")),
     Case("str-header-only", "Stribeck CSV: header only", lambda d: _ident(d, "velocity_deg_s,torque_nm\n")),
     Case("str-missing", "Stribeck CSV: no such file", lambda d: _ident(d, data=str(d / "nope.csv"))),
-    Case("epos-bad-number", "EPOS folder: a file with a non-numeric cell", lambda d: _ident(d, data=_epos_folder(d, EPOS_HEAD + "0.0;-3;-32\r\n51.2;-3;abc\r\n"))),
-    Case("epos-units", "EPOS folder: a file in rad/s", lambda d: _ident(d, data=_epos_folder(d, epos_text(3, 32).replace("ms;rpm;%", "ms;rad/s;%")))),
+    Case("epos-bad-number", "EPOS folder: a file with a non-numeric cell",
+         lambda d: _ident(d, data=_epos_folder(d, EPOS_HEAD + "0.0;-3;-32\r\n51.2;-3;abc\r\n"))),
+    Case("epos-units", "EPOS folder: a file in rad/s",
+         lambda d: _ident(d, data=_epos_folder(d, epos_text(3, 32).replace("ms;rpm;%", "ms;rad/s;%")))),
     Case("epos-empty-folder", "EPOS folder: no .csv files", lambda d: _ident(d, data=_existing_dir(d))),
-    Case("id-out-dir", "identify: --out names an existing folder", lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", _existing_dir(d)]),
+    Case("id-out-dir", "identify: --out names an existing folder",
+         lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", _existing_dir(d)]),
     Case("id-plot-not-png", "identify: --plot not .png", lambda d: _ident(d, None, "--plot", str(d / "fig.pdf"))),
-    Case("id-plot-is-out", "identify: --plot names the --out JSON", lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", str(d / "r.json"), "--plot", str(d / "r.json")]),
-    Case("id-edges", "identify: --edges not two numbers", lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", str(d / "r.json"), "--edges", "0.1"]),
+    Case("id-plot-is-out", "identify: --plot names the --out JSON",
+         lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", str(d / "r.json"),
+                    "--plot", str(d / "r.json")]),
+    Case("id-edges", "identify: --edges not two numbers",
+         lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", str(d / "r.json"), "--edges", "0.1"]),
     Case("id-seeds", "identify: --seeds 0", lambda d: _ident(d, None, "--seeds", "0")),
     # --- reproduce
     Case("rep-out-file", "reproduce: --out is an existing file", lambda d: ["reproduce", "--out", _existing_file(d)]),
-    Case("rep-out-foreign", "reproduce: --out a non-empty folder not made by reproduce", lambda d: ["reproduce", "--out", _foreign_folder(d)]),
-    Case("rep-only", "reproduce: unknown --only item", lambda d: ["reproduce", "--out", str(d / "out"), "--only", "fig99"]),
+    Case("rep-out-foreign", "reproduce: --out a non-empty folder not made by reproduce",
+         lambda d: ["reproduce", "--out", _foreign_folder(d)]),
+    Case("rep-only", "reproduce: unknown --only item",
+         lambda d: ["reproduce", "--out", str(d / "out"), "--only", "fig99"]),
     Case("rep-seeds", "reproduce: --seeds -1", lambda d: ["reproduce", "--out", str(d / "out"), "--seeds", "-1"]),
-    Case("rep-data", "reproduce: --data with semicolons", lambda d: ["reproduce", "--out", str(d / "out"), "--data", _w(d, "s.csv", stribeck_text().replace(",", ";"))]),
+    Case("rep-data", "reproduce: --data with semicolons",
+         lambda d: ["reproduce", "--out", str(d / "out"), "--data", _w(d, "s.csv", stribeck_text().replace(",", ";"))]),
     # --- simulate (scenario JSON: validated by the scenario loader)
-    Case("sim-out-dir-plot", "simulate: --plot p.png --out EXISTING_DIR", lambda d: _simulate(d, SCENARIO, "--plot", str(d / "p.png"), out=_existing_dir(d))),
+    Case("sim-out-dir-plot", "simulate: --plot p.png --out EXISTING_DIR",
+         lambda d: _simulate(d, SCENARIO, "--plot", str(d / "p.png"), out=_existing_dir(d))),
     Case("sim-not-json", "simulate: scenario not JSON", lambda d: _simulate(d, "{friction: paper}")),
-    Case("sim-solver-name", "simulate: unknown solver name", lambda d: _simulate(d, _scen(solver={"method": "fixed", "name": "rk99"}))),
-    Case("sim-dt-multiple", "simulate: dt not a multiple of the sample period", lambda d: _simulate(d, _scen(solver={"method": "fixed", "dt": 0.015}))),
+    Case("sim-solver-name", "simulate: unknown solver name",
+         lambda d: _simulate(d, _scen(solver={"method": "fixed", "name": "rk99"}))),
+    Case("sim-dt-multiple", "simulate: dt not a multiple of the sample period",
+         lambda d: _simulate(d, _scen(solver={"method": "fixed", "dt": 0.015}))),
     Case("sim-J0", "simulate: J = 0", lambda d: _simulate(d, _scen(joint={"J": 0}))),
     Case("sim-string", "simulate: a string duration", lambda d: _simulate(d, _scen(duration_s="10"))),
-    Case("sim-undecodable", "simulate: undecodable bytes", lambda d: ["simulate", _w(d, "s.json", json.dumps(SCENARIO).encode() + b"\xff"), "--out", str(d / "out" / "t.csv")]),
+    Case("sim-undecodable", "simulate: undecodable bytes",
+         lambda d: ["simulate", _w(d, "s.json", json.dumps(SCENARIO).encode() + b"\xff"),
+                    "--out", str(d / "out" / "t.csv")]),
 ]
 
 
@@ -281,7 +332,8 @@ def run_subprocess(case: Case, d: Path, timeout: float = 600) -> dict:
                        timeout=timeout, cwd=Path(__file__).resolve().parents[1])
     left = sorted(files_under(d) - before)
     return dict(id=case.id, kind=case.kind, command=argv[0], code=r.returncode, expected=case.code,
-                stderr=r.stderr.strip().replace(str(d), "DIR"), stdout=r.stdout.strip(), traceback="Traceback" in r.stderr, left=left,
+                stderr=r.stderr.strip().replace(str(d), "DIR"), stdout=r.stdout.strip(),
+                traceback="Traceback" in r.stderr, left=left,
                 argv=[a.replace(str(d), "DIR") for a in argv])
 
 
@@ -316,7 +368,8 @@ def _md(s: str) -> str:
 def write_table(rows: list[dict], path: Path, header: str) -> None:
     n_tb = sum(r["traceback"] for r in rows)
     n_left = sum(bool(r["left"]) for r in rows)
-    n_ok = sum(r["code"] == r["expected"] and not r["traceback"] and not r["left"] and len(r["stderr"].splitlines()) == 1
+    n_ok = sum(r["code"] == r["expected"] and not r["traceback"] and not r["left"]
+               and len(r["stderr"].splitlines()) == 1
                for r in rows)
     lines = [header, "",
              f"**{len(rows)} inputs tried: {n_ok} end with the expected exit code (2; 130/143 when interrupted) and "

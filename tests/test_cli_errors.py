@@ -24,7 +24,8 @@ def _configured(monkeypatch):
 
 
 @pytest.mark.parametrize(
-    "case", [pytest.param(c, id=c.id, marks=[pytest.mark.xfail(reason=KNOWN[c.id], strict=False)] if c.id in KNOWN else [])
+    "case", [pytest.param(c, id=c.id,
+                          marks=[pytest.mark.xfail(reason=KNOWN[c.id], strict=False)] if c.id in KNOWN else [])
              for c in CASES])
 def test_malformed_input_exits_2_with_one_line_and_no_output(case, tmp_path, capsys):
     argv = case.make(tmp_path)

@@ -54,7 +54,8 @@ def _corruptions(header_col: str):
         lines = text.splitlines()
         cells = lines[0].split(",")
         j = k % len(cells)
-        return ("\n".join([lines[0] + "," + cells[j]] + [ln + "," + ln.split(",")[j] for ln in lines[1:]]) + "\n").encode()
+        body = [lines[0] + "," + cells[j]] + [ln + "," + ln.split(",")[j] for ln in lines[1:]]
+        return ("\n".join(body) + "\n").encode()
 
     def rename(text, k):
         return text.replace(header_col, header_col.upper(), 1).encode()
@@ -146,7 +147,8 @@ def stribeck_files(draw):
     rows = []
     for v in vels:
         for _ in range(reps):
-            rows.append((signs * v, round(draw(st.floats(-10.0, 10.0)), 6), draw(st.sampled_from(["accel", "decel", None]))))
+            f = round(draw(st.floats(-10.0, 10.0)), 6)
+            rows.append((signs * v, f, draw(st.sampled_from(["accel", "decel", None]))))
     # a branch that occurs needs two distinct velocities: put the branch-less rows in "accel"
     by = {}
     for v, _, b in rows:

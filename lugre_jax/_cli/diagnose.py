@@ -103,5 +103,6 @@ def _check_params_against(params: dict, rec, source) -> None:
     scale = float(np.max(np.abs(rec.torque)))
     if not np.isfinite(model) or model > 1e3 * max(scale, 1e-12):
         raise ValueError(f"{source}: the parameters predict torques up to {model:.3g} {rec.units['torque']} on this "
-                         f"recording, whose torque stays below {scale:.3g}; expected parameters in the recording's units "
+                         f"recording, whose torque stays below {scale:.3g}; expected parameters in the "
+                         "recording's units "
                          f"({rec.units['velocity']}, {rec.units['torque']})")

@@ -115,7 +115,8 @@ def run(args) -> int:
         if args.bounds in ("paper", "", None):
             vmax, tmax = float(np.max(np.abs(data.velocity))), float(np.max(np.abs(data.torque)))
             if vmax > 10.0 or tmax < 1e-2:
-                print(f"lugre-jax identify: note: the data span up to {vmax:.4g} deg/s and {tmax:.4g} N*m, far from the "
+                print(f"lugre-jax identify: note: the data span up to {vmax:.4g} deg/s and {tmax:.4g} N*m, "
+                      "far from the "
                       "paper's ranges (vs in [0, 1] deg/s, Fc, Fs in [0, 10] N*m); consider --bounds auto",
                       file=sys.stderr)
         kw = dict(key=jax.random.key(args.seed), n_seeds=args.seeds, refine=args.refine, bounds=args.bounds)

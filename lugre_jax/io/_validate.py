@@ -182,7 +182,8 @@ def load_params_json(path: str | os.PathLike) -> dict:
     if isinstance(obj, dict) and "baseline" in obj:
         base = obj["baseline"]
         if not isinstance(base, dict) or not isinstance(base.get("params"), dict):
-            raise ValueError(f"{path}: key 'baseline': expected an object with a 'params' object (a diagnose REPORT.json)")
+            raise ValueError(f"{path}: key 'baseline': expected an object with a 'params' object "
+                             "(a diagnose REPORT.json)")
         params = dict(base["params"])
         params.setdefault(FS_BELOW_FC_REASON, "fitted by a previous diagnose run")
         return validate_joint_params(params, f"{path}: baseline.params")
