@@ -37,10 +37,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--models", help="comma-separated subset of models (default: all)")
     p.add_argument("--train-fraction", type=float, default=0.7,
                    help="fraction of the estimation run used for fitting (default 0.7)")
-    p.add_argument("--segments", type=int, default=64,
-                   help="shooting segments of the benchmark-protocol fit (default 64)")
-    p.add_argument("--segment-len", type=int, default=500,
-                   help="samples per shooting segment (default 500)")
+    p.add_argument("--segments", type=int, default=4,
+                   help="shooting segments of the benchmark-protocol fit (default 4)")
+    p.add_argument("--segment-len", type=int, default=None,
+                   help="samples per shooting segment (default: the segments tile the training part)")
     p.add_argument("--max-steps", type=int, default=60, help="Levenberg-Marquardt step limit (default 60)")
     p.add_argument("--quiet", action="store_true", help="no progress output")
 
@@ -51,7 +51,7 @@ def run(args) -> int:
     by_label = {m.label: m for m in MODELS}
     models = tuple(by_label[k] for k in comma_choices(args.models, list(by_label), "--models")) \
         if args.models else MODELS
-    if args.segments < 1 or args.segment_len < 20:
+    if args.segments < 1 or (args.segment_len is not None and args.segment_len < 20):
         raise ValueError(f"--segments must be >= 1 and --segment-len >= 20, got {args.segments}, "
                          f"{args.segment_len}")
     if args.max_steps < 1:
