@@ -16,6 +16,7 @@ two agree), over the last ``window`` fraction of the record, with the sample's c
 from __future__ import annotations
 
 import abc
+import math
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -27,9 +28,12 @@ class AbstractMetric(eqx.Module):
     name: str = eqx.field(static=True)
     window: float = eqx.field(static=True, default=0.5)
 
-    def _mask(self, sol):
-        t = sol.ts
-        return t >= t[-1] * (1.0 - self.window) - 1e-12
+    def _window(self, sol):
+        """``(ts, theta, omega, theta_ref, v_ref)`` over the window, sliced with a static start
+        (the sample grid ``k/sample_hz`` is fixed): no masked arithmetic on the other samples."""
+        n = sol.ts.shape[-1]
+        k0 = max(0, min(n - 1, math.ceil((n - 1) * (1.0 - self.window) - 1e-9)))
+        return tuple(x[..., k0:] for x in (sol.ts, sol.theta, sol.omega, sol.theta_ref, sol.v_ref))
 
     @abc.abstractmethod
     def __call__(self, sol):
@@ -39,34 +43,29 @@ class AbstractMetric(eqx.Module):
         return {"metric": METRIC_KEYS[type(self)], "name": self.name, "window": self.window}
 
 
-def _wmean(x, m):
-    return jnp.sum(jnp.where(m, x, 0.0)) / jnp.sum(m)
-
-
 class DeadZone(AbstractMetric):
     window: float = eqx.field(static=True, default=0.25)
 
     def __call__(self, sol):
-        m = self._mask(sol)
-        v = jnp.where(m, sol.v_ref, 1.0)
-        return _wmean((sol.theta_ref - sol.theta) / v, m)
+        _, th, _, ref, v = self._window(sol)
+        return jnp.mean((ref - th) / v)
 
 
 class CreepAmplitude(AbstractMetric):
     def __call__(self, sol):
-        m = self._mask(sol)
-        e = sol.theta - sol.theta_ref
-        tw = sol.ts - _wmean(sol.ts, m)
-        slope = jnp.sum(jnp.where(m, tw * e, 0.0)) / jnp.sum(jnp.where(m, tw * tw, 0.0))
-        r = e - _wmean(e, m) - slope * tw
-        return jnp.max(jnp.where(m, r, -jnp.inf)) - jnp.min(jnp.where(m, r, jnp.inf))
+        t, th, _, ref, _ = self._window(sol)
+        e = th - ref
+        tw = t - jnp.mean(t)
+        r = e - jnp.mean(e) - (jnp.sum(tw * e) / jnp.sum(tw * tw)) * tw
+        return jnp.max(r) - jnp.min(r)
 
 
 class BandFraction(AbstractMetric):
     band: float = eqx.field(static=True, default=1e-3)
 
     def __call__(self, sol):
-        return _wmean((jnp.abs(sol.omega - sol.v_ref) <= self.band).astype(sol.omega.dtype), self._mask(sol))
+        _, _, om, _, v = self._window(sol)
+        return jnp.mean((jnp.abs(om - v) <= self.band).astype(om.dtype))
 
     def to_json(self):
         return {**super().to_json(), "band": self.band}
@@ -74,17 +73,17 @@ class BandFraction(AbstractMetric):
 
 class TrackingError(AbstractMetric):
     def __call__(self, sol):
-        return jnp.sqrt(_wmean((sol.theta_ref - sol.theta) ** 2, self._mask(sol)))
+        _, th, _, ref, _ = self._window(sol)
+        return jnp.sqrt(jnp.mean((ref - th) ** 2))
 
 
 class StickSlip(AbstractMetric):
     threshold: float = eqx.field(static=True, default=0.1)
 
     def __call__(self, sol):
-        m = self._mask(sol)
+        _, _, om, _, v = self._window(sol)
         # omega*sign(v_ref) >= threshold*|v_ref|, written as a product: no division by v_ref.
-        slow = sol.omega * sol.v_ref < self.threshold * sol.v_ref**2
-        return jnp.any(m & slow).astype(sol.omega.dtype)
+        return jnp.any(om * v < self.threshold * v**2).astype(om.dtype)
 
     def to_json(self):
         return {**super().to_json(), "threshold": self.threshold}
