@@ -393,7 +393,9 @@ command with exit code 2 and one line on stderr naming the file, the line or key
 expected; nothing is written (outputs are staged beside their targets and moved into place only when
 the whole command succeeded; multi-file results carry a `MANIFEST.json` written last). Ctrl-C ends a
 command with exit code 130, SIGTERM with 143, one line, nothing half-written
-(`tests/test_interrupt.py`).
+(`tests/test_interrupt.py`; the last two rows below). Only a process killed outright (SIGKILL, power
+loss) can leave something: a hidden `.NAME.incomplete-XXXX` file or folder beside the target, which
+has no `MANIFEST.json` and is never mistaken for a result.
 
 Inputs that are accepted as they are: a UTF-8 byte-order mark, Windows (CRLF) line ends, blank lines,
 `#` comment lines in a Stribeck CSV, trailing commas and `was ...` annotations in EPOS exports
