@@ -73,7 +73,7 @@ def test_cli_bad_spec_exit_2_nothing_written(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
     assert r.stderr.strip().count("\n") == 0
-    assert f"{p}.n: expected a power of two" in r.stderr
+    assert f"{p}: SPEC.n: expected a power of two" in r.stderr
     assert not out.exists()
 
 

@@ -250,4 +250,4 @@ def load_spec(path) -> SweepSpec:
         d = json.loads(text)
     except json.JSONDecodeError as e:
         raise ValueError(f"{path}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
-    return spec_from_dict(d, str(path), path.parent)
+    return spec_from_dict(d, f"{path}: SPEC", path.parent)
