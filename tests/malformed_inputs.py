@@ -296,6 +296,8 @@ CASES: list[Case] = [
     Case("rep-only", "reproduce: unknown --only item",
          lambda d: ["reproduce", "--out", str(d / "out"), "--only", "fig99"]),
     Case("rep-seeds", "reproduce: --seeds -1", lambda d: ["reproduce", "--out", str(d / "out"), "--seeds", "-1"]),
+    Case("rep-cache-inside", "reproduce: --setup-cache inside --out",
+         lambda d: ["reproduce", "--out", str(d / "out"), "--setup-cache", str(d / "out" / "setup.json")]),
     Case("rep-data", "reproduce: --data with semicolons",
          lambda d: ["reproduce", "--out", str(d / "out"), "--data", _w(d, "s.csv", stribeck_text().replace(",", ";"))]),
     # --- simulate (scenario JSON: validated by the scenario loader)

@@ -50,8 +50,12 @@ def run(args) -> int:
         raise ValueError(f"--out {e}") from None
     if args.data is not None:
         load_stribeck_csv(args.data)
-    if args.setup_cache is not None and not Path(args.setup_cache).is_file():
-        check_output_file(args.setup_cache, "--setup-cache", (".json",))
+    if args.setup_cache is not None:
+        if Path(args.out).resolve() in Path(args.setup_cache).resolve().parents:
+            raise ValueError(f"--setup-cache {args.setup_cache}: inside --out {args.out}, which is replaced as a "
+                             "whole at the end; expected a path outside it")
+        if not Path(args.setup_cache).is_file():
+            check_output_file(args.setup_cache, "--setup-cache", (".json",))
     from ..reproduce import run_all
 
     res = run_all(args.out, quick=args.quick, data_path=args.data, only=only, seeds=args.seeds,
