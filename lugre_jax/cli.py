@@ -77,10 +77,10 @@ def main(argv: list[str] | None = None) -> int:
 
     is_program = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)
-    parser, modules = build_parser()
     code = None
     with handle_signals():
         try:
+            parser, modules = build_parser()  # imports the subcommands (and JAX): seconds, interruptible
             args = parser.parse_args(argv)
             _configure_process(args.no_cache)
             return int(modules[args.command].run(args) or 0)
