@@ -74,10 +74,10 @@ def closed_loop_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0,
     w = slice(max(start, N_BORDER), stop)
     q, v, f = np.asarray(q)[s], np.asarray(v)[s], np.asarray(f)[s]
     ok = bool(ok)
-    nan = float("inf")
+    inf = float("inf")  # a failed simulation scores +inf, never NaN
     return ClosedLoopScore(
-        rel_err_pct(data.q_f[w], q) if ok else nan, rel_err_pct(data.dq_f[w], v) if ok else nan,
-        rel_err_pct(data.force[w], f) if ok else nan, ok,
+        rel_err_pct(data.q_f[w], q) if ok else inf, rel_err_pct(data.dq_f[w], v) if ok else inf,
+        rel_err_pct(data.force[w], f) if ok else inf, ok,
         data.run.t[w], data.q_f[w], q, data.dq_f[w], v, data.force[w], f, data.run.qm[w])
 
 
