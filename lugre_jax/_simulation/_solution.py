@@ -3,7 +3,6 @@ means, and the per-lane result codes."""
 
 from __future__ import annotations
 
-import abc
 
 import equinox as eqx
 import jax
@@ -18,27 +17,29 @@ RESULT_NAMES = {RESULT_OK: "ok", RESULT_NONFINITE: "state not finite",
                 RESULT_SOLVER_FAILED: "adaptive solver gave up (max_steps or step size)"}
 
 
+def _component(view, k):
+    # A function, not a Module method: equinox wraps every bound method on attribute access, a cost
+    # paid on each `sol.theta` of a small unbatched solve.
+    return view.ys[..., k] if isinstance(view, Solution) else view.y[k]
+
+
 class _AbstractStateView(eqx.Module):
     """Named views of the state components shared by :class:`Solution` and :class:`Sample`."""
-
-    @abc.abstractmethod
-    def _component(self, k):
-        ...
 
     @property
     def theta(self):
         """Joint angle [deg]."""
-        return self._component(0)
+        return _component(self, 0)
 
     @property
     def omega(self):
         """Joint velocity [deg/s]."""
-        return self._component(1)
+        return _component(self, 1)
 
     @property
     def z(self):
         """Bristle deflection [deg]."""
-        return self._component(2)
+        return _component(self, 2)
 
 
 class Solution(_AbstractStateView):
@@ -55,9 +56,6 @@ class Solution(_AbstractStateView):
     theta_ref: Float[Array, "*b n"]
     v_ref: Float[Array, "*b n"]
     result: Int[Array, "*b"]
-
-    def _component(self, k):
-        return self.ys[..., k]
 
     @property
     def ok(self):
@@ -92,9 +90,6 @@ class Sample(_AbstractStateView):
     friction_nm: Float[Array, ""]
     theta_ref: Float[Array, ""]
     v_ref: Float[Array, ""]
-
-    def _component(self, k):
-        return self.y[k]
 
 
 class SampleMean(eqx.Module):
