@@ -67,3 +67,34 @@ def test_gravity_not_named_on_small_position_span():
                    sensors=T.Sensors(fs=100.0), seed=2)
     rep = diagnose(g.to_recording(), progress=False, candidates=["gravity", "asymmetry"])
     assert "gravity" not in [m["name"] for m in rep["missing_physics"]], rep["selection_log"]
+
+
+# each candidate, well above the concealed level, on a short independent staircase of issue #20's
+# kind (100 Hz); the candidate competes with two rivals (the full library competes in
+# experiments/diagnose_independent). Slow: a few minutes each.
+EFFECT_CASES = {
+    "position_ripple": ([T.PositionRipple(0.12, 5.0, 1.0)], "period", 5.0, 0.05),
+    "asymmetry": ([T.Asymmetry(0.1)], "offset", 0.1, 0.3),
+    "thermal_drift": ([T.ThermalDrift(-0.1 / 64.0)], "rate", -0.1 / 64.0, 0.3),
+    "stribeck_shape": ([T.StribeckShape(1.0)], "delta", 1.0, 0.15),
+    "load_dependent": ([T.LoadDependent(0.15, 0.02)], "mu", 0.15, 0.3),
+    "compliance": ([T.Compliance(3.0, 0.05, 0.02)], "fn_hz", 3.0, 0.1),
+    "backlash": ([T.Backlash(0.05, 0.1)], "share", 0.1, 0.4),
+    "gravity": ([T.Gravity(0.3, -0.3)], "amplitude", 0.3, 0.3),
+}
+RIVALS = {"position_ripple": ["gravity", "asymmetry"], "asymmetry": ["gravity", "thermal_drift"],
+          "thermal_drift": ["asymmetry", "gravity"], "stribeck_shape": ["asymmetry", "load_dependent"],
+          "load_dependent": ["asymmetry", "compliance"], "compliance": ["load_dependent", "asymmetry"],
+          "backlash": ["stribeck_shape", "asymmetry"], "gravity": ["position_ripple", "asymmetry"]}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("effect", list(EFFECT_CASES))
+def test_each_candidate_on_independent_recording(effect):
+    effs, key, true, tol = EFFECT_CASES[effect]
+    exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0 if effect != "gravity" else 12.0, seed=3)
+    g = T.generate(exc, effs, sensors=T.Sensors(fs=100.0), seed=9)
+    rep = diagnose(g.to_recording(), progress=False, max_effects=1, candidates=RIVALS[effect] + [effect])
+    first = rep["missing_physics"][0] if rep["missing_physics"] else {"name": "none"}
+    assert first["name"] == effect, (effect, rep["verdict"], rep["selection_log"])
+    assert abs(first["params"][key] - true) <= tol * abs(true), (effect, first["params"])

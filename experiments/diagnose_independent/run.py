@@ -5,7 +5,8 @@ rtol 1e-9), issue #20.
 Three studies (``--study``), each job appends one JSON line to ``<out>/runs.jsonl`` (resumable;
 ``--shard i/n`` splits the jobs across processes):
 
-* ``null``: effect-free recordings spanning the generator's settings (two plants, four excitations,
+* ``null``: effect-free recordings spanning the generator's settings (two plants, four excitations
+  (144-s staircases, smooth or sharp; 60-120-s sine sweeps and multisines),
   100-1,000 Hz, torque noise 0.02-0.2 N*m, velocity noise 0-0.01 deg/s, quantisation 0-0.005 deg,
   velocity column present or absent); the claim: ``none`` in >= 95 % and the baseline's validation
   RMSE within 10 % of the estimated noise floor in every one;
@@ -51,12 +52,13 @@ def null_settings(n: int = 32):
         out.append({"key": f"null{i:02d}", "plant": "issue" if i % 2 == 0 else "paper_like",
                     "excitation": exc[i % 4], "fs": fs[(i // 4) % 4], "torque_noise": tn[i % 3],
                     "velocity_noise": vn[(i // 3) % 3], "quantisation": qs[(i // 2) % 3],
-                    "velocity_column": (i // 5) % 2 == 0, "effects": [], "seed": 1000 + i})
+                    "velocity_column": (i // 5) % 2 == 0, "effects": [], "seed": 1000 + i,
+                    "short": True})
     return out
 
 
-def excitation_of(name: str, fs: float, seed: int):
-    short = fs >= 500  # bound the sample count (and the generator's time) at high rates
+def excitation_of(name: str, fs: float, seed: int, short: bool = False):
+    short = short or fs >= 500  # bound the sample count (and the generator's time)
     if name == "staircase":
         return T.Staircase(dwell=4.5 if short else 9.0, seed=seed)
     if name == "staircase_sharp":
@@ -129,7 +131,8 @@ def run_one(job, top_k):
                      quantisation=job["quantisation"], velocity_column=job["velocity_column"])
     effs = effects_of(job)
     t0 = time.time()
-    g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"]), effs, plant, ctrl, sens,
+    g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"], job.get("short", False)), effs,
+                   plant, ctrl, sens,
                    seed=job["seed"])
     t_gen = time.time() - t0
     rec = g.to_recording()

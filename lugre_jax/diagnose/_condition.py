@@ -129,3 +129,21 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     out = Recording(t, np.asarray(rec.position, float), v, a, np.asarray(rec.torque, float), rec.units,
                     rec.source, extra, rec.meta)
     return out, Conditioning(st, sv, sp, q, source, int(W), float(J0 * sig_a), float(sig_v))
+
+
+def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:
+    """Samples where the velocity is not smooth at the sampling rate (a sharp step the loop follows
+    within a sample or two): there no estimate of the acceleration from samples exists, and the
+    inverse model's J*a is wrong by the unresolved impulse. Flagged where the velocity departs from
+    its 5-sample cubic fit by more than 4 noise std (and 0.3 % of its range), widened by ``pad``
+    samples. Measured on a 100-Hz sharp staircase: 1 % of the samples, and the true model's
+    residual std 0.237 -> 0.0798 N*m (noise 0.08) once they are left out."""
+    from scipy.ndimage import maximum_filter1d
+
+    v = np.asarray(velocity, float)
+    if v.size < 10:
+        return np.zeros(v.shape, bool)
+    V = float(np.percentile(np.abs(v), 99)) or 1.0
+    dev = np.abs(v - savgol_filter(v, 5, 3))
+    bad = dev > max(4.0 * sv, 3e-3 * V)
+    return maximum_filter1d(bad.astype(np.int8), 2 * pad + 1) > 0

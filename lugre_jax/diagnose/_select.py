@@ -44,6 +44,12 @@ def _ctx(rec, model, kin, r, loc, scales, n_rev, extra=None):
             "to_rad": np.pi / 180 if rec.units.get("position") == "deg" else 1.0}
 
 
+def hf_noise_std_of(rec):
+    from ._condition import hf_noise_std
+
+    return hf_noise_std(rec.velocity)
+
+
 def _sse(r, w):
     return float(np.sum(w * r ** 2))
 
@@ -152,11 +158,12 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     """
     from tqdm.auto import tqdm
 
-    from ._condition import condition
+    from ._condition import condition, unresolved_transients
 
     t_start = time.time()
     rough = M.initial_baseline(rec, friction, fit_offset)
     f_r = rough.friction
+    unresolved = unresolved_transients(rec.velocity, hf_noise_std_of(rec))
     rec, cond = condition(rec, float(rough.J), float(getattr(f_r, "sigma2", 0.0)))
     kin = M.kinematics_of(rec)
     # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk
@@ -164,14 +171,16 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     scales = M.data_scales(rec)
     scales["noise"] = cond.torque_noise
     blocks = M.block_ids(rec.time, block_s)
-    val = M.validation_mask(blocks)
-    w = (~val).astype(float)
+    # unresolved transients take no part: not in the fit, the validation or the tests
+    keep = ~unresolved
+    val = M.validation_mask(blocks) & keep
+    w = ((~val) & keep).astype(float)
     tau = np.asarray(rec.torque)
     n_train = int(w.sum())
     since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
 
     base, info = fit_baseline(rec, kin, w, scales, friction, fit_offset, params, noise=cond.torque_noise)
-    r0 = tau - M.predict(base, kin)
+    r0 = (tau - M.predict(base, kin)) * keep
     floor = cond.torque_noise
     ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
     loc0 = L.locate(rec, r0, blocks, scales, alpha, flags)
@@ -183,14 +192,15 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                       "validation": "every 5th time block of ~%.3g %s held out (%d of %d samples)"
                                     % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
                                        rec.units["time"], int(val.sum()), rec.n)},
-        "baseline": {"params": M.model_params(base), "rmse_nm": float(np.sqrt(np.mean(r0[~val] ** 2))),
+        "baseline": {"params": M.model_params(base), "rmse_nm": float(np.sqrt(np.mean(r0[w > 0] ** 2))),
                      "validation_rmse_nm": _val_rmse(r0, val), "fit": info,
                      "noise_floor_nm": floor, "floor_ratio": ratio,
                      "at_floor": bool(ratio <= 1.1),
                      "shortcoming": None if ratio <= 1.1 else (
                          f"the baseline's validation RMSE is {ratio:.3g}x the estimated noise floor: located "
                          "structure may be the baseline's own misfit, not missing physics"),
-                     "conditioning": cond.to_json()},
+                     "conditioning": cond.to_json(),
+                     "unresolved_transient_fraction": float(unresolved.mean())},
         "alpha": alpha, "kappa_long_run_variance": kappa,
     }
     cext = {"position_resolution": max(cond.quantisation, cond.position_noise),
@@ -233,8 +243,8 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             space = M.FitSpace(_all_specs(s["model"], scales, fit_offset, freeze_baseline=params is not None))
             model = M.clip_into(space, s["model"])
             fitted, finfo = M.fit(model, space, kin, tau, w, max_steps=max_steps)
-            r1 = tau - M.predict(fitted, kin)
-            r_start = tau - M.predict(model, kin)
+            r1 = (tau - M.predict(fitted, kin)) * keep
+            r_start = (tau - M.predict(model, kin)) * keep
             if not np.all(np.isfinite(r1)) or _sse(r1, w) > _sse(r_start, w):
                 fitted, r1 = model, r_start
             k1 = len(space.specs) if params is None else k_cur + len(M.candidate_specs(fitted, len(fitted.candidates) - 1, scales))

@@ -1,0 +1,87 @@
+"""Tables and figures of the independent-recording study (``run.py``): null recordings (verdict,
+baseline-to-floor ratio), issue #20's recording kind, and the concealed-level proof table.
+
+    python experiments/diagnose_independent/plot.py [--out experiments/diagnose_independent/results]
+
+Writes ``summary.md`` (the tables quoted in docs/diagnosis.md) and ``null_floor_ratio.png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+
+from lugre_jax.io import save_figure
+
+
+def load(path):
+    if not path.exists():
+        return []
+    return [json.loads(x) for x in path.read_text().splitlines() if x.strip()]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
+    a = ap.parse_args()
+    out = Path(a.out)
+    null, issue, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "issue", "proof"))
+    lines = []
+    if null:
+        none = sum(r["verdict"] == "none" for r in null)
+        ratios = np.array([r["floor_ratio"] for r in null])
+        lines += [f"## Null recordings ({len(null)})", "",
+                  f"`none` in {none}/{len(null)} ({100 * none / len(null):.0f} %); baseline validation RMSE / "
+                  f"estimated noise floor: median {np.median(ratios):.3f}, max {ratios.max():.3f}; "
+                  f"within 10 %: {int(np.sum(ratios <= 1.1))}/{len(null)}", "",
+                  "| key | plant | excitation | fs | torque noise | vel. noise | quant. | vel. column | n | "
+                  "conditioning | floor est. | ratio | verdict | s |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for r in sorted(null, key=lambda r: r["key"]):
+            c = r["conditioning"]
+            lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {r['torque_noise']} | "
+                         f"{r['velocity_noise']} | {r['quantisation']} | {'yes' if r['velocity_column'] else 'no'} | "
+                         f"{r['n_samples']} | {c['source']} W={c['window']} | {r['noise_floor']:.4f} | "
+                         f"{r['floor_ratio']:.3f} | {r['verdict']} | {r['seconds_diagnose']:.0f} |")
+        lines.append("")
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(9, 3.5))
+        keys = [r["key"] for r in sorted(null, key=lambda r: r["key"])]
+        rr = [r["floor_ratio"] for r in sorted(null, key=lambda r: r["key"])]
+        col = ["C0" if r["verdict"] == "none" else "C3" for r in sorted(null, key=lambda r: r["key"])]
+        ax.bar(range(len(rr)), rr, color=col)
+        ax.axhline(1.1, color="k", ls="--", lw=0.8, label="10 % above the floor")
+        ax.set_ylim(0.9, max(1.15, max(rr) + 0.02))
+        ax.set_xticks(range(len(rr)), keys, rotation=90, fontsize=7)
+        ax.set_ylabel("validation RMSE / noise floor")
+        ax.set_title("Effect-free independent recordings (blue: verdict none, red: anything else)")
+        ax.legend(fontsize=8)
+        save_figure(fig, out / "null_floor_ratio.png")
+    for title, rows in (("Issue #20's recording kind", issue), ("Concealed level (proof)", proof)):
+        if not rows:
+            continue
+        ok = sum(r["correct"] for r in rows)
+        lines += [f"## {title}: {ok}/{len(rows)} exactly right (extra claims count as wrong)", "",
+                  "| key | true | true peak / noise | verdict | baseline ratio | val. RMSE before -> after | fitted | s |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for r in rows:
+            fit = "; ".join(f"{k}: " + ", ".join(f"{p}={v:.3g}" for p, v in d.items() if isinstance(v, float))
+                            for k, d in r["fitted"].items() if k != "unexplained")
+            lines.append(f"| {r['key']} | {'+'.join(r['true_effects']) or 'none'} | "
+                         f"{r['true_peak_nm'] / r['torque_noise']:.2f} | {r['verdict']} | {r['floor_ratio']:.3f} | "
+                         f"{r['baseline_val_rmse']:.4f} -> {r['improved_val_rmse']:.4f} | {fit} | "
+                         f"{r['seconds_diagnose']:.0f} |")
+        lines.append("")
+    (out / "summary.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
