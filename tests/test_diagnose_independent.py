@@ -18,14 +18,14 @@ def test_generator_agrees_with_project_simulator():
     agree to 1e-5 in velocity and torque -- two codes written separately from the equations."""
     plant = T.Plant()
     pi = T.VelocityPI()
-    g = T.generate(T.PositionSine(3.0, 0.4, duration=5.0), (), plant, pi,
+    g = T.generate(T.PositionSine(3.0, 0.4, duration=2.5), (), plant, pi,
                    T.Sensors(fs=100.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0))
     sysm = lugre_jax.System(
         friction=lugre_jax.LuGre(Fc=plant.Fc, Fs=plant.Fs, vs=plant.vs, sigma2=plant.sigma2,
                                  sigma0=plant.sigma0, sigma1=plant.sigma1),
         joint=lugre_jax.Joint(J=plant.J), controller=lugre_jax.VelocityPID(kp=pi.kp, ki=pi.ki),
         reference=lugre_jax.PositionSine(3.0, 0.4))
-    sol = lugre_jax.simulate(sysm, 5.0, 100.0, stepping=lugre_jax.Adaptive(rtol=1e-10, atol=1e-12))
+    sol = lugre_jax.simulate(sysm, 2.5, 100.0, stepping=lugre_jax.Adaptive(rtol=1e-10, atol=1e-12))
     assert int(sol.result) == 0
     om = np.asarray(sol.ys[:, 1])
     np.testing.assert_allclose(g.true["omega"], om, atol=1e-5 * np.max(np.abs(om)))
@@ -54,6 +54,7 @@ def test_null_independent_recording_gives_none_at_floor():
     assert b["floor_ratio"] < 1.10 and b["at_floor"]
 
 
+@pytest.mark.slow
 def test_no_velocity_column_conditions_from_position():
     g = T.generate(_short_staircase(1), (), sensors=T.Sensors(fs=100.0, velocity_column=False), seed=6)
     rep = diagnose(g.to_recording(), progress=False, candidates=["asymmetry"])
@@ -61,6 +62,7 @@ def test_no_velocity_column_conditions_from_position():
     assert rep["baseline"]["floor_ratio"] < 1.10
 
 
+@pytest.mark.slow
 def test_gravity_not_named_on_small_position_span():
     """Issue #20's +-3 deg sine: a gravity fitted there is a line in disguise; it must not be named."""
     g = T.generate(T.PositionSine(3.0, 0.4, duration=30.0), [T.Gravity(0.3, 0.5)],
