@@ -14,6 +14,8 @@ parameter errors, per-seed final losses) and DIR/benchmark.md (the table).
 from __future__ import annotations
 
 import argparse
+import os
+import shlex
 import sys
 from pathlib import Path
 
@@ -81,7 +83,10 @@ def main(argv=None) -> int:
     report = {"problem": {"kind": "whole", "n_points": len(prob.v), "noise_sd": NOISE_SD, "truth": truth,
                           "reference_x": x_ref, "reference_J": j_ref, "reference_rel_error": dict(zip(NAMES, ref_err)),
                           "bounds": [prob.lower, prob.upper], "data_seed": a.data_seed},
-              "seeds": a.seeds, "success_rule": "final J <= 1.01 * reference_J", "methods": {}}
+              "seeds": a.seeds, "success_rule": "final J <= 1.01 * reference_J", "methods": {},
+              # wall times depend on the machine's load: keep it beside them
+              "command": shlex.join(["python", "experiments/optimiser_benchmark/run.py", *sys.argv[1:]]),
+              "cpu": {"nproc": os.cpu_count(), "load_avg_at_start": list(os.getloadavg())}}
     rows = []
     for label, (method, settings, refine) in METHODS.items():
         if a.only and not any(s in label for s in a.only):
@@ -128,6 +133,7 @@ def main(argv=None) -> int:
         rows.append((label, m))
         print(f"  success {m['success_rate']:.2f}, evals {m['evals_total_median']:.0f}, to success {m['evals_to_success_median']}, "
               f"wall/seed {wall_per_seed*1e3:.2f} ms, max rel err (median) {m['max_rel_param_error_median']:.3g}", flush=True)
+    report["cpu"]["load_avg_at_end"] = list(os.getloadavg())
     write_json(out / "benchmark.json", report)
     lines = [
         f"Static whole-range Stribeck problem, {a.seeds} seeds per method; success = final J <= 1.01 J_ref "
