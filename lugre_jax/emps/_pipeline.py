@@ -13,7 +13,6 @@ import dataclasses
 import time
 from pathlib import Path
 
-import numpy as np
 
 from ..io._emps import EmpsRun
 from ._fit import FitResult, RunArrays, fit_closed_loop, fit_open_loop
