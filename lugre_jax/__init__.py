@@ -5,8 +5,9 @@ Prostate Seed Implantation Robot's Rotatory Joint", Electronics 2020, 9, 284.
 
 Units at every interface are the paper's: angles in deg, velocities in deg/s, torques in N*m.
 
-Subpackages: ``friction``, ``plant``, ``control``, ``identify``, ``dynamic``, ``diagnose``, ``io``,
-``reproduce``; module ``metrics``.
+Subpackages: ``friction``, ``plant``, ``control``, ``identify``, ``dynamic``, ``diagnose``, ``emps``,
+``sweep``, ``testing``, ``io``, ``reproduce``; modules ``metrics``, ``xla`` (:func:`configure`).
+Nothing process-wide changes on import: call :func:`configure` first (float64, XLA options).
 """
 
 from .xla import configure as configure
@@ -61,6 +62,14 @@ from .plant import (
     paper_friction as paper_friction,
     paper_segment as paper_segment,
 )
-from . import diagnose as diagnose, dynamic as dynamic, identify as identify, metrics as metrics  # noqa: E402
+from . import (  # noqa: E402
+    diagnose as diagnose,
+    dynamic as dynamic,
+    emps as emps,
+    identify as identify,
+    metrics as metrics,
+    sweep as sweep,
+    testing as testing,
+)
 
 __version__ = "0.1.0"

@@ -29,9 +29,14 @@ def _configure_process(no_cache: bool) -> None:
     per core (so batches shard over both cores), and JAX's persistent compilation cache in the
     user's cache directory so a second run does not compile again (``--no-cache`` or
     ``LUGRE_JAX_NO_CACHE=1`` turns it off; ``LUGRE_JAX_CACHE_DIR`` moves it)."""
-    from .xla import configure
+    from .xla import backend_started, configure
 
-    configure(host_devices=os.cpu_count() or 1)
+    if backend_started():
+        # Called in a process that already ran JAX (a test, a notebook): XLA options can no longer
+        # change, so only float64 is switched on.
+        configure(one_kernel_loops=False, vector_width=None)
+    else:
+        configure(host_devices=os.cpu_count() or 1)
     if no_cache or os.environ.get("LUGRE_JAX_NO_CACHE"):
         return
     import jax
