@@ -131,7 +131,7 @@ def test_gradients_match_central_differences():
         return lj.simulate(eqx.tree_at(lambda s: s.friction, base, f), 5.0, 20.0,
                            stepping=lj.FixedStep()).theta[-1]
 
-    p0 = jnp.asarray(lj._params.to_vector(lj.paper_segment(1)))
+    p0 = jnp.asarray(lj.friction.to_vector(lj.paper_segment(1)))
     jac = jax.jacfwd(final_theta)(p0)
     jrev = jax.grad(final_theta)(p0)
     fd = []
@@ -362,7 +362,7 @@ def test_sample_mean_gradient_matches_trajectory_gradient_and_differences():
     base = _pi_system(0.02, friction=lj.paper_segment(1))
 
     def system(p):
-        return eqx.tree_at(lambda s: s.friction, base, lj._params.from_vector(lj.LuGre, p))
+        return eqx.tree_at(lambda s: s.friction, base, lj.friction.from_vector(lj.LuGre, p))
 
     def in_loop(p):
         return lj.simulate(system(p), 5.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value
@@ -371,7 +371,7 @@ def test_sample_mean_gradient_matches_trajectory_gradient_and_differences():
         sol = lj.simulate(system(p), 5.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02))
         return jnp.mean((sol.theta - sol.theta_ref) ** 2)
 
-    p0 = jnp.asarray(lj._params.to_vector(lj.paper_segment(1)))
+    p0 = jnp.asarray(lj.friction.to_vector(lj.paper_segment(1)))
     g = jax.grad(in_loop)(p0)
     np.testing.assert_allclose(g, jax.grad(stored)(p0), rtol=1e-9, atol=1e-18)
     np.testing.assert_allclose(jax.jacfwd(in_loop)(p0), g, rtol=1e-9, atol=1e-18)
@@ -437,11 +437,11 @@ def test_map_lanes_equals_vmap_and_grad_through_chunks_is_exact():
     # jax.grad through a batched simulate of several chunks (each chunk recomputed before its
     # backward sweep) gives the same per-lane gradients.
     base = _pi_system(0.02, friction=lj.paper_segment(1))
-    p0 = np.asarray(lj._params.to_vector(lj.paper_segment(1)))
+    p0 = np.asarray(lj.friction.to_vector(lj.paper_segment(1)))
     P = jnp.asarray(p0 * np.random.default_rng(0).uniform(0.9, 1.1, (7, 6)))
 
     def loss(p):
-        s = eqx.tree_at(lambda s: s.friction, base, lj._params.from_vector(lj.LuGre, p))
+        s = eqx.tree_at(lambda s: s.friction, base, lj.friction.from_vector(lj.LuGre, p))
         return lj.simulate(s, 2.0, 100.0, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value
 
     v, g = lj.map_lanes(jax.value_and_grad(loss), P, chunk_size=3, shard=False)
@@ -452,7 +452,7 @@ def test_map_lanes_equals_vmap_and_grad_through_chunks_is_exact():
 
     def total(P):
         s = eqx.tree_at(lambda s: s.friction, lj.broadcast_system(base, 7),
-                        lj._params.from_vector(lj.LuGre, P))
+                        lj.friction.from_vector(lj.LuGre, P))
         return jnp.sum(lj.simulate(s, 2.0, 100.0, batched=True, lanes=lj.Lanes(chunk_size=3, shard=False), stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02), saveat=lj.SaveAt(mean=_tracking)).value)
 
     np.testing.assert_allclose(jax.grad(total)(P), g0, rtol=1e-10, atol=1e-20)

@@ -65,7 +65,7 @@ def step_plan(dt: float, sample_hz: float) -> tuple[int, int]:
 
 def rhs_evals(stepping, n: int, sample_hz: float) -> int:
     """Right-hand-side evaluations of one lane's fixed-step solve over ``n`` samples."""
-    sub, span = step_plan(stepping.dt, sample_hz)
+    sub, span = step_plan(stepping.step_for(sample_hz), sample_hz)
     return -(-(n - 1) // span) * sub * stepping.evals_per_step
 
 
@@ -81,7 +81,7 @@ def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
     """Fixed-step solve: ``(ys, result)``, or with ``sample_fn`` ``(mean of sample_fn, result)``."""
     tableau = stepping.solver.tableau
     h_sample = 1.0 / sample_hz
-    sub, span = step_plan(stepping.dt, sample_hz)
+    sub, span = step_plan(stepping.step_for(sample_hz), sample_hz)
     h = h_sample * span / sub
     y0 = split(system.y0)
 

@@ -131,7 +131,7 @@ def simulate(
     sample_hz = float(sample_hz)
     n = _sample_grid(float(duration_s), sample_hz)
     if isinstance(stepping, FixedStep):
-        step_plan(stepping.dt, sample_hz)  # a dt that fits no sample grid is refused here
+        step_plan(stepping.step_for(sample_hz), sample_hz)  # a dt that fits no sample grid is refused here
     check_inertia = _check_inertia(system)
     if not batched:
         return _jit_one(system, n, sample_hz, stepping, saveat, check_inertia)

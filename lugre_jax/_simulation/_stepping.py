@@ -27,22 +27,27 @@ class FixedStep(AbstractStepping):
 
     The fast choice for batches: every lane costs the same and the stages are unrolled into one
     vectorised loop. Its accuracy is the user's to choose: check it with
-    :func:`lugre_jax.check_stepping`, which re-solves a few lanes adaptively. A ``dt`` shorter
-    than the sample period is rounded down to divide it; a longer one must be a whole multiple of
-    it (samples between steps are cubic-Hermite interpolated). Discontinuities of the reference
+    :func:`lugre_jax.check_stepping`, which re-solves a few lanes adaptively. ``dt=None`` (the
+    default) is 2.5e-3 s or the sample period if that is shorter. A ``dt`` shorter than the sample
+    period is rounded down to divide it; a longer one must be a whole multiple of it (samples
+    between steps are cubic-Hermite interpolated). Discontinuities of the reference
     that fall between steps (e.g. a staircase whose steps are off the step grid) cost first-order
     local error there; the :class:`Adaptive` default lands on them.
     """
 
     solver: diffrax.AbstractSolver = eqx.field(static=True, default_factory=diffrax.Tsit5)
-    dt: float = eqx.field(static=True, default=2.5e-3)
+    dt: float | None = eqx.field(static=True, default=None)
 
     def __check_init__(self):
         if not isinstance(self.solver, diffrax.AbstractERK) or not hasattr(self.solver, "tableau"):
             raise ValueError(f"FixedStep needs an explicit Runge-Kutta diffrax solver (Tsit5, Bosh3, Heun, "
                              f"Ralston, Midpoint, Dopri5), got {type(self.solver).__name__}")
-        if not (isinstance(self.dt, (int, float)) and self.dt > 0):
-            raise ValueError(f"FixedStep.dt must be a positive step in seconds, got {self.dt!r}")
+        if self.dt is not None and not (isinstance(self.dt, (int, float)) and self.dt > 0):
+            raise ValueError(f"FixedStep.dt must be a positive step in seconds (or None), got {self.dt!r}")
+
+    def step_for(self, sample_hz: float) -> float:
+        """The step [s] used at ``sample_hz``: ``dt``, or by default 2.5e-3 s capped at the sample period."""
+        return min(2.5e-3, 1.0 / sample_hz) if self.dt is None else float(self.dt)
 
     @property
     def evals_per_step(self) -> int:
@@ -51,7 +56,8 @@ class FixedStep(AbstractStepping):
         return len(tableau.a_lower) + (0 if tableau.fsal else 1)
 
     def describe(self) -> str:
-        return f"FixedStep({type(self.solver).__name__}(), dt={self.dt!r})"
+        return f"FixedStep({type(self.solver).__name__}(), dt={self.dt!r})" if self.dt else \
+            f"FixedStep({type(self.solver).__name__}())"
 
 
 class Adaptive(AbstractStepping):

@@ -221,7 +221,7 @@ def _stepping(s: Any, sample_hz: float):
         for k in ("rtol", "atol", "max_steps"):
             if k in s:
                 raise ScenarioError(f"solver.{k}: only for method \"adaptive\" (a fixed step has no tolerance)")
-        dt = _num(s, "dt", "solver", min(2.5e-3, 1.0 / sample_hz), positive=True)
+        dt = _num(s, "dt", "solver", FixedStep().step_for(sample_hz), positive=True)
         h = 1.0 / sample_hz
         if dt > h * (1 + 1e-9) and abs(dt / h - round(dt / h)) > 1e-9 * dt / h:
             raise ScenarioError(f"solver.dt: expected a step <= the sample period {h!r} s or a whole multiple "
