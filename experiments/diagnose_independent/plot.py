@@ -20,7 +20,14 @@ from lugre_jax.io import save_figure
 def load(path):
     if not path.exists():
         return []
-    return [json.loads(x) for x in path.read_text().splitlines() if x.strip()]
+    rows, seen = [], set()
+    for x in path.read_text().splitlines():  # first run of each job kept (reruns append)
+        if x.strip():
+            r = json.loads(x)
+            if r["key"] not in seen:
+                seen.add(r["key"])
+                rows.append(r)
+    return rows
 
 
 def main():
@@ -28,7 +35,8 @@ def main():
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
     a = ap.parse_args()
     out = Path(a.out)
-    null, issue, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "issue", "proof"))
+    null, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "proof"))
+    issue = load(out / "issue_final" / "runs_issue.jsonl") or load(out / "runs_issue.jsonl")
     lines = []
     if null:
         none = sum(r["verdict"] == "none" for r in null)

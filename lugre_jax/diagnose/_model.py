@@ -398,8 +398,9 @@ def standard_errors(model: JointModel, space: FitSpace, kin: Kinematics, tau, we
     un = np.asarray(u)
     sig = 1 / (1 + np.exp(-un))
     x = lo + (hi - lo) * sig
-    dxdu = (hi - lo) * sig * (1 - sig) * np.where(lg, np.exp(x), 1.0)
-    vals = np.where(lg, np.exp(x), x)
+    ex = np.exp(np.where(lg, x, 0.0))  # exp only of the log-space parameters (no overflow elsewhere)
+    dxdu = (hi - lo) * sig * (1 - sig) * np.where(lg, ex, 1.0)
+    vals = np.where(lg, ex, x)
     se = np.abs(dxdu) * se_u
     # a parameter pinned at a bound (sigmoid saturated) is not determined by the data
     se = np.where((sig < 1e-4) | (sig > 1 - 1e-4), np.inf, se)

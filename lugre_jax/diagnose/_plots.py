@@ -38,7 +38,7 @@ def _symlog_velocity_axis(ax, V: float) -> None:
     ticks = sorted([-p for p in pos] + [0.0] + pos)
     ax.xaxis.set_major_locator(FixedLocator(ticks))
     ax.xaxis.set_minor_locator(NullLocator())
-    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: "0" if x == 0 else f"{x:.2g}"))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: "0" if x == 0 else f"{x:g}"))
     ax.tick_params(axis="x", labelrotation=30)
 
 
