@@ -78,7 +78,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict]:
 def main(argv: list[str] | None = None) -> int:
     """Run one command. ``argv=None`` means this is the program (console script or ``python -m``):
     an interrupted run then ends without interpreter shutdown (see ``_cli._signals``)."""
-    from ._cli._signals import EXIT_SIGINT, EXIT_SIGTERM, Terminated, handle_signals, hard_exit
+    from ._cli._signals import EXIT_SIGINT, EXIT_SIGTERM, Terminated, caught, handle_signals, hard_exit
 
     is_program = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -95,8 +95,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"lugre-jax {argv_command(argv)}: error: {msg}", file=sys.stderr)
             return 2
         except KeyboardInterrupt:
+            caught()
             code = EXIT_SIGINT
         except Terminated:
+            caught()
             code = EXIT_SIGTERM
     # Reached only after an interrupt; every context manager on the way up has cleaned up.
     print(f"lugre-jax {argv_command(argv)}: interrupted ({'Ctrl-C' if code == EXIT_SIGINT else 'SIGTERM'})",

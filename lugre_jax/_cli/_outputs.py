@@ -152,6 +152,10 @@ class Outputs:
         self._created.clear()  # now in use
 
     def _cleanup(self) -> None:
+        with deferred_signals():  # a second Ctrl-C must not cut the cleanup short
+            self._remove_staging()
+
+    def _remove_staging(self) -> None:
         for tmp, _ in self._files:
             if tmp.exists():
                 tmp.unlink()

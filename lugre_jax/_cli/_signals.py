@@ -31,30 +31,83 @@ class Terminated(BaseException):
         self.signum = signum
 
 
-def _on_term(signum, frame):
+# Raising from a signal handler is not always enough: when the handler happens to run inside a
+# callback whose exceptions Python ignores (JAX registers a garbage-collection callback; __del__
+# methods, weakref callbacks), the exception is handed to sys.unraisablehook and dropped, and the
+# command would run on. Our hook sends the signal again at once (and does not print the copy); a
+# slower timer covers an exception swallowed silently (a bare ``except:``). Cleanup that must not
+# be cut short runs with the signals held (lugre_jax.io.deferred_signals).
+_FALLBACK_RESEND_S = 2.0
+_state: dict = {"caught": True, "timers": []}
+
+
+def _resend_later(signum: int, after_s: float) -> None:
+    import threading
+
+    def again():
+        if not _state["caught"]:
+            os.kill(os.getpid(), signum)
+
+    t = threading.Timer(after_s, again)
+    t.daemon = True
+    _state["timers"].append(t)
+    t.start()
+
+
+def _on_signal(signum, frame):
+    _resend_later(signum, _FALLBACK_RESEND_S)
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise Terminated(signum)
+
+
+def caught() -> None:
+    """Called by ``main`` once the interrupt has reached it: no more re-sending."""
+    _state["caught"] = True
+    for t in _state["timers"]:
+        t.cancel()
+    _state["timers"].clear()
+
+
+def _quiet_unraisable(hook):
+    def unraisable(u):
+        if isinstance(u.exc_value, (KeyboardInterrupt, Terminated)):
+            if not _state["caught"]:  # raised where Python ignores exceptions: send it again, from
+                # another thread, so that it is not handled inside this hook (which ignores it too)
+                sig = signal.SIGINT if isinstance(u.exc_value, KeyboardInterrupt) else signal.SIGTERM
+                _resend_later(sig, 0.02)
+            return
+        hook(u)
+
+    return unraisable
 
 
 @contextlib.contextmanager
 def handle_signals() -> Iterator[None]:
-    """Within the block, SIGTERM raises :class:`Terminated` and SIGINT raises KeyboardInterrupt; the
-    previous handlers are restored afterwards (the CLI's ``main`` may run inside a test process). A
-    SIGINT that the parent set to be ignored (``nohup``, background jobs) stays ignored."""
+    """Within the block, SIGTERM raises :class:`Terminated` and SIGINT raises KeyboardInterrupt in the
+    main thread (sent again if dropped, see above); the previous handlers are restored afterwards (the
+    CLI's ``main`` may run inside a test process). A SIGINT that the parent set to be ignored
+    (``nohup``, background jobs) stays ignored."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():
         yield  # signal handlers can only be set from the main thread
         return
-    old_term = signal.signal(signal.SIGTERM, _on_term)
+    _state["caught"] = False
+    old_term = signal.signal(signal.SIGTERM, _on_signal)
     old_int = signal.getsignal(signal.SIGINT)
     if old_int is not signal.SIG_IGN:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGINT, _on_signal)
+    old_hook = sys.unraisablehook
+    sys.unraisablehook = _quiet_unraisable(old_hook)
     try:
         yield
     finally:
+        caught()
         signal.signal(signal.SIGTERM, old_term)
         if old_int is not signal.SIG_IGN and old_int is not None:
             signal.signal(signal.SIGINT, old_int)
+        sys.unraisablehook = old_hook
 
 
 def hard_exit(code: int) -> None:

@@ -40,8 +40,9 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         yield tmp
         os.replace(tmp, path)
     finally:
-        if tmp.exists():
-            tmp.unlink()
+        with deferred_signals():  # a second Ctrl-C must not cut the cleanup short
+            if tmp.exists():
+                tmp.unlink()
 
 
 def _jsonable(x: Any):
@@ -199,8 +200,9 @@ def atomic_folder(path: str | os.PathLike, *, meta: Mapping[str, Any] | None = N
         with deferred_signals():  # the renames must not be split by Ctrl-C
             replace_folder(tmp, path)
     finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
+        with deferred_signals():
+            if tmp.exists():
+                shutil.rmtree(tmp, ignore_errors=True)
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> None:
