@@ -155,6 +155,15 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format).
     ``friction``: baseline friction law, ``lugre`` (default), ``stribeck`` or ``coulomb_viscous``.
     ``fit_offset``: include a constant torque offset in the baseline (the EMPS benchmark does).
+
+    Before fitting, the kinematics are conditioned from the data (:func:`._condition.condition`:
+    velocity column or position, Savitzky-Golay window from the estimated noise and bias; bristles
+    driven along the position path) and samples inside unresolved sharp transients are left out.
+    The report's ``baseline`` adds ``noise_floor_nm`` (torque noise estimated from the data),
+    ``floor_ratio`` (validation RMSE / floor), ``at_floor`` (ratio <= 1.1), ``shortcoming``,
+    ``conditioning`` and ``unresolved_transient_fraction``; each joint refit in ``selection_log``
+    adds ``identifiability_z`` and ``rejected_because`` (a candidate is named only if plausible and
+    identifiable on the recording, see docs/diagnosis.md).
     """
     from tqdm.auto import tqdm
 
