@@ -13,8 +13,11 @@ import sys
 
 def main() -> int:
     os.environ.setdefault("EQX_ON_ERROR", "nan")
-    from lugre_jax.cli import main as cli_main
-
+    try:
+        from lugre_jax.cli import main as cli_main
+    except KeyboardInterrupt:  # Ctrl-C while JAX loads, before cli.main handles signals
+        print("lugre-jax: interrupted (Ctrl-C)", file=sys.stderr)
+        return 130
     return cli_main()
 
 

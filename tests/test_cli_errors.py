@@ -11,10 +11,7 @@ from malformed_inputs import CASES, files_under
 
 # Cases whose command belongs to another part of the project and still fails the contract; strict=False
 # so the test starts passing (XPASS) when it is mended.
-KNOWN = {
-    "sim-out-dir-plot": "simulate writes --plot before checking --out (lugre_jax/_cli/simulate.py)",
-    "sim-undecodable": "the scenario loader's decoding error names no file (lugre_jax/io/_scenario.py)",
-}
+KNOWN: dict = {}
 
 
 @pytest.fixture(autouse=True)

@@ -74,8 +74,8 @@ def test_json_syntax_error_names_line_and_column(tmp_path, capsys):
 
 
 def test_console_script_exit_code_and_single_line(tmp_path):
-    r = subprocess.run([sys.executable, "-m", "lugre_jax.cli", "simulate", str(tmp_path / "missing.json"),
+    r = subprocess.run([sys.executable, "-m", "lugre_jax_cli", "simulate", str(tmp_path / "missing.json"),
                         "--out", str(tmp_path / "t.csv")], capture_output=True, text=True)
     assert r.returncode == 2
-    assert r.stderr.strip().endswith("missing.json: no such file")
+    assert r.stderr.strip().endswith("missing.json: no such scenario JSON file")
     assert len(r.stderr.strip().splitlines()) == 1

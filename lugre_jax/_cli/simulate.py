@@ -1,40 +1,68 @@
-"""``lugre-jax simulate SCENARIO.json --out TRAJ.csv [--plot TRAJ.png]``."""
+"""``lugre-jax simulate SCENARIO.json --out TRAJ.csv [--plot TRAJ.png] [--force]``."""
 
 from __future__ import annotations
 
 import argparse
+import sys
+import time
 
 import numpy as np
+
+from ._args import HelpFormatter
+from ._outputs import Outputs, check_output_size, csv_output_bytes
+
+_COLUMNS = 7
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("simulate", help="simulate one scenario (JSON) and write its trajectory (CSV)",
-                       description="Simulate the joint of a scenario file. Units: deg, deg/s, N*m, s.")
-    p.add_argument("scenario", help="scenario JSON (see lugre_jax/io/_scenario.py for the schema)")
+                       formatter_class=HelpFormatter,
+                       description="Simulate the joint of a scenario file. Units: deg, deg/s, N*m, s.\n"
+                                   "Without a 'solver' section the scenario is solved with error-controlled "
+                                   "stepping that lands on the reference's steps (lugre_jax.Adaptive).")
+    p.add_argument("scenario", help="scenario JSON (schema: lugre_jax/io/_scenario.py)")
     p.add_argument("--out", required=True, help="trajectory CSV to write")
     p.add_argument("--plot", help="optional PNG figure of the trajectory")
+    p.add_argument("--force", action="store_true", help="write a CSV larger than 500 MB")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr (shown on a terminal)")
 
 
 def run(args) -> int:
     from .. import simulate
     from ..io import load_scenario, write_csv
 
-    system, opts = load_scenario(args.scenario)
-    sol = simulate(system, opts["duration_s"], opts["sample_hz"], stepping=opts.get("stepping"))
-    if int(sol.result) != 0:
-        raise ValueError(
-            f"{args.scenario}: the solver failed (result code {int(sol.result)}: "
-            + ("state blew up; try a smaller solver.dt or solver.method \"adaptive\")" if int(sol.result) == 1
-               else "adaptive solver gave up; raise solver.max_steps or loosen rtol/atol)")
-        )
-    cols = {
-        "time_s": sol.ts, "position_deg": sol.theta, "velocity_deg_s": sol.omega,
-        "torque_nm": sol.torque_nm, "z_deg": sol.z, "position_ref_deg": sol.theta_ref,
-        "velocity_ref_deg_s": sol.v_ref,
-    }
-    if args.plot:
-        _plot(cols, args.plot)
-    write_csv(args.out, {k: np.asarray(v) for k, v in cols.items()})
+    # Progress on a terminal only: a failure's message stays the one line on stderr in logs and pipes.
+    quiet = args.quiet or not sys.stderr.isatty()
+    say = (lambda *a: None) if quiet else (lambda msg: print(f"simulate: {msg}", file=sys.stderr, flush=True))
+    with Outputs() as outs:
+        out = outs.file(args.out, "--out", ".csv")
+        plot = outs.file(args.plot, "--plot", ".png") if args.plot else None
+        system, opts = load_scenario(args.scenario)
+        n = int(round(opts["duration_s"] * opts["sample_hz"])) + 1
+        check_output_size(csv_output_bytes(n, _COLUMNS), "--out", args.out, args.force)
+        stepping = opts.get("stepping")
+        say(f"{n:,} samples, {'default Adaptive' if stepping is None else stepping.describe()}; compiling ...")
+        t0 = time.perf_counter()
+        sol = simulate(system, opts["duration_s"], opts["sample_hz"], stepping=stepping)
+        sol.theta.block_until_ready()
+        say(f"solved in {time.perf_counter() - t0:.1f} s (compilation included; a second run reuses it)")
+        if int(sol.result) != 0:
+            raise ValueError(
+                f"{args.scenario}: the solver failed (result code {int(sol.result)}: "
+                + ("state blew up; try a smaller solver.dt or solver.method \"adaptive\")" if int(sol.result) == 1
+                   else "adaptive solver gave up; raise solver.max_steps, loosen rtol/atol, or use "
+                        "solver.name \"kvaerno5\" for a stiff system)")
+            )
+        cols = {
+            "time_s": sol.ts, "position_deg": sol.theta, "velocity_deg_s": sol.omega,
+            "torque_nm": sol.torque_nm, "z_deg": sol.z, "position_ref_deg": sol.theta_ref,
+            "velocity_ref_deg_s": sol.v_ref,
+        }
+        cols = {k: np.asarray(v) for k, v in cols.items()}
+        write_csv(out, cols)
+        if plot is not None:
+            _plot(cols, plot)
+    say(f"wrote {args.out}" + (f" and {args.plot}" if args.plot else ""))
     return 0
 
 
@@ -46,16 +74,17 @@ def _plot(cols, path):
 
     from ..io import save_figure
 
-    t = np.asarray(cols["time_s"])
+    t = cols["time_s"]
     fig, ax = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
     ax[0].plot(t, cols["position_ref_deg"], "r--", label="reference")
     ax[0].plot(t, cols["position_deg"], "k", label="joint")
     ax[0].set_ylabel("position [deg]")
     ax[0].legend()
-    ax[1].plot(t, cols["velocity_ref_deg_s"], "r--")
-    ax[1].plot(t, cols["velocity_deg_s"], "k")
+    ax[1].plot(t, cols["velocity_ref_deg_s"], "r--", label="reference")
+    ax[1].plot(t, cols["velocity_deg_s"], "k", label="joint")
     ax[1].set_ylabel("velocity [deg/s]")
-    ax[2].plot(t, cols["torque_nm"], "b")
+    ax[2].plot(t, cols["torque_nm"], "b", label="actuator torque")
     ax[2].set_ylabel("torque [N*m]")
     ax[2].set_xlabel("time [s]")
+    ax[2].legend()
     save_figure(fig, path)

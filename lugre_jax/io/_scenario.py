@@ -49,6 +49,7 @@ from .. import control as C
 from .._simulation import N_STATES, STATE_NAMES, Adaptive, FixedStep, System
 from ..friction import LuGre, Segmented
 from ..plant import DCMotor, IdealTorque, Joint, paper_friction
+from ._validate import read_text
 
 
 class ScenarioError(ValueError):
@@ -294,9 +295,9 @@ def load_scenario(path: str | Path) -> tuple[System, dict]:
     """Read a scenario JSON file; errors name the file, and line/column for JSON syntax errors."""
     path = Path(path)
     try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: no such file") from None
+        text = read_text(path, "scenario JSON file")
+    except ValueError as e:
+        raise ScenarioError(str(e)) from None
     except OSError as e:
         raise ScenarioError(f"{path}: cannot read ({e.strerror})") from None
     try:
