@@ -56,7 +56,7 @@ def chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_
     """``jax.vmap(one_lane)(tree)`` over the ``b`` lanes (leading axis) of ``tree``'s arrays, in
     chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable). A
     default chunk of more than ``lane_multiple`` lanes is rounded up to a multiple of it."""
-    devices = jax.devices()
+    devices = jax.local_devices()
     ndev = max(1, min(len(devices) if shard else 1, b))
     per_dev = -(-b // ndev)
     if chunk_size is None:
@@ -113,7 +113,7 @@ def _compiled(ndev: int, chunk: int, key, one_lane):
     def fn(dyn, static):
         run = lambda d: run_chunks(eqx.combine(d, static))  # noqa: E731
         if ndev > 1:
-            mesh = Mesh(np.array(jax.devices()[:ndev]), ("lanes",))
+            mesh = Mesh(np.array(jax.local_devices()[:ndev]), ("lanes",))
             run = jax.shard_map(run, mesh=mesh, in_specs=PartitionSpec("lanes"),
                                 out_specs=PartitionSpec("lanes"), check_vma=False)
         return run(dyn)
@@ -146,5 +146,5 @@ def map_lanes(fn, xs: PyTree, *, chunk_size: int | None = None, shard: bool | No
         raise ValueError(f"map_lanes needs a function of one lane, got {type(fn).__name__}")
     b = lane_count(xs, "map_lanes", "give every array leaf of xs the same leading (lane) axis")
     if shard is None:
-        shard = len(jax.devices()) > 1 and b >= 2 * _MAP_LANES_CHUNK
+        shard = len(jax.local_devices()) > 1 and b >= 2 * _MAP_LANES_CHUNK
     return chunked_lanes(("map_lanes", fn), fn, xs, b, chunk_size, shard, _MAP_LANES_CHUNK, _VECTOR_LANES)

@@ -139,7 +139,7 @@ def simulate(
     shard = lanes.shard
     if shard is None:
         evals = rhs_evals(stepping, n, sample_hz) if isinstance(stepping, FixedStep) else math.inf
-        shard = len(jax.devices()) > 1 and b * evals >= _SHARD_MIN_EVALS and math.isfinite(evals)
+        shard = len(jax.local_devices()) > 1 and b * evals >= _SHARD_MIN_EVALS and math.isfinite(evals)
     key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
     out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), system, b,
                         lanes.chunk_size, shard)
