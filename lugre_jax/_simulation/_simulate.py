@@ -13,7 +13,7 @@ import numpy as np
 
 from ..xla import require_x64
 from ._adaptive import solve_adaptive
-from ._fixed import rhs_evals, solve_fixed, step_plan
+from ._fixed import rhs_evals, solve_fixed
 from ._lanes import batch_size_of, chunked_lanes
 from ._solution import RESULT_OK, SampleMean, Solution
 from ._stepping import AbstractStepping, Adaptive, FixedStep, Lanes, SaveAt
@@ -131,7 +131,7 @@ def simulate(
     sample_hz = float(sample_hz)
     n = _sample_grid(float(duration_s), sample_hz)
     if isinstance(stepping, FixedStep):
-        step_plan(stepping.step_for(sample_hz), sample_hz)  # a dt that fits no sample grid is refused here
+        stepping.check(sample_hz)  # a dt that fits no sample grid is refused here
     check_inertia = _check_inertia(system)
     if not batched:
         return _jit_one(system, n, sample_hz, stepping, saveat, check_inertia)

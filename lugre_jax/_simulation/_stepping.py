@@ -49,6 +49,13 @@ class FixedStep(AbstractStepping):
         """The step [s] used at ``sample_hz``: ``dt``, or by default 2.5e-3 s capped at the sample period."""
         return min(2.5e-3, 1.0 / sample_hz) if self.dt is None else float(self.dt)
 
+    def check(self, sample_hz: float) -> None:
+        """``ValueError`` unless the step fits the sample grid of ``sample_hz`` (divides the sample
+        period, or spans a whole number of samples)."""
+        from ._fixed import step_plan
+
+        step_plan(self.step_for(sample_hz), sample_hz)
+
     @property
     def evals_per_step(self) -> int:
         """Right-hand-side evaluations per step (an FSAL tableau's last stage is the next k0)."""

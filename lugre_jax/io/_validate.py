@@ -39,6 +39,18 @@ def read_text(path: str | os.PathLike, what: str = "file") -> str:
                          f"expected a UTF-8 (or ASCII) {what}") from None
 
 
+def read_json(path: str | os.PathLike, what: str = "JSON file") -> Any:
+    """The parsed JSON of ``path`` (read as :func:`read_text`); a syntax error gives a
+    ``ValueError`` naming the file, line and column."""
+    import json
+
+    text = read_text(path, what)
+    try:
+        return json.loads(text, parse_constant=lambda c: float(c))
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{path}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
+
+
 def check_delimiter(path, lineno: int, line: str, expected: str = ",") -> None:
     """Refuse a header written with another separator (``;`` or tab, e.g. a spreadsheet's locale
     export), which would otherwise read as one unknown column."""
@@ -171,14 +183,8 @@ def validate_joint_params(params: Any, source: str) -> dict:
 def load_params_json(path: str | os.PathLike) -> dict:
     """Read and check a ``--params`` file: a parameter dict, or a previous diagnose REPORT.json (its
     ``baseline.params`` are used; a fitted Fs < Fc is accepted there, the fit being the reason)."""
-    import json
-
     path = Path(path)
-    text = read_text(path, "JSON file")
-    try:
-        obj = json.loads(text, parse_constant=lambda c: float(c))
-    except json.JSONDecodeError as e:
-        raise ValueError(f"{path}: line {e.lineno}, column {e.colno}: not valid JSON ({e.msg})") from None
+    obj = read_json(path)
     if isinstance(obj, dict) and "baseline" in obj:
         base = obj["baseline"]
         if not isinstance(base, dict) or not isinstance(base.get("params"), dict):

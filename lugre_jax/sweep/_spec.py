@@ -33,7 +33,7 @@ from typing import Any
 import diffrax
 
 from .._simulation import Adaptive, FixedStep
-from ..io import scenario_from_dict
+from ..io import read_json, scenario_from_dict
 from ._metrics import METRICS, AbstractMetric
 from ._paths import Path, parse_path
 from ._problem import check_problem
@@ -147,11 +147,11 @@ def spec_from_dict(d: Any, where: str = "SPEC", base_dir: FsPath | None = None) 
     if isinstance(scen, str):
         p = FsPath(scen) if base_dir is None or FsPath(scen).is_absolute() else FsPath(base_dir) / scen
         try:
-            scen = json.loads(p.read_text())
+            scen = read_json(p, "scenario JSON file")
+        except ValueError as e:
+            raise ValueError(f"{where}.scenario: {e}") from None
         except OSError as e:
             raise ValueError(f"{where}.scenario: cannot read {p} ({e.strerror})") from None
-        except json.JSONDecodeError as e:
-            raise ValueError(f"{where}.scenario: {p}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
         raw["scenario"] = scen
     try:
         system, opts = scenario_from_dict(scen)
@@ -207,17 +207,16 @@ def spec_from_dict(d: Any, where: str = "SPEC", base_dir: FsPath | None = None) 
         name = s.get("solver", "tsit5")
         if name not in _FIXED_SOLVERS:
             raise ValueError(f"{where}.stepping.solver: expected one of {', '.join(_FIXED_SOLVERS)}, got {name!r}")
-        dt = _pos(s, "dt", f"{where}.stepping", 2.5e-3)
-        h = 1.0 / opts["sample_hz"]
-        if dt > h * (1 + 1e-9) and abs(dt / h - round(dt / h)) > 1e-9 * dt / h:
-            raise ValueError(f"{where}.stepping.dt: expected a step <= the sample period {h!r} s or a whole "
-                             f"multiple of it, got {dt!r}")
-        fast = FixedStep(_FIXED_SOLVERS[name](), dt=dt)
+        fast = FixedStep(_FIXED_SOLVERS[name](), dt=_pos(s, "dt", f"{where}.stepping", 2.5e-3))
+        try:
+            fast.check(opts["sample_hz"])
+        except ValueError as e:
+            raise ValueError(f"{where}.stepping.dt: {e}") from None
     elif isinstance(opts.get("stepping"), FixedStep):
         fast = opts["stepping"]
     else:
         # A scenario solves adaptively by default; a sweep's first solve is the fast fixed step.
-        fast = FixedStep(diffrax.Tsit5(), dt=min(2.5e-3, 1.0 / opts["sample_hz"]))
+        fast = FixedStep(diffrax.Tsit5())
     fb = d.get("fallback", {})
     if fb is None:
         stiff = None
@@ -241,13 +240,7 @@ def load_spec(path) -> SweepSpec:
     """Read and check a SPEC file; errors are one line starting with the file's path."""
     path = FsPath(path)
     try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise ValueError(f"{path}: no such file") from None
+        d = read_json(path, "SPEC file")
     except OSError as e:
         raise ValueError(f"{path}: cannot read ({e.strerror})") from None
-    try:
-        d = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise ValueError(f"{path}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
     return spec_from_dict(d, f"{path}: SPEC", path.parent)
