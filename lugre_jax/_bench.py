@@ -7,7 +7,7 @@ ki = 60) commanded at 0.02 deg/s for 20 s, a stick-slip run. Each lane gets its 
 Baselines: a plain Python loop of ``scipy.integrate.solve_ivp`` (LSODA) on a hand-written scalar
 right-hand side (4 states, no JAX in the loop: the fastest plain scipy loop we could write); the
 same loop on the right-hand side written numpy-style (arrays over the three segments, ufuncs: how
-such code is usually written, ~25 ms per solve, the cost the core issue quotes); and the same loop
+such code is usually written, the cost the core issue quotes); and the same loop
 calling the jitted JAX vector field (what handing a JAX model to scipy costs). All three are
 reported, each labelled. Accuracy is measured against a tight reference (LSODA, rtol 1e-11); for scipy at
 rtol 1e-3 (its default) and 1e-4 we pick our cheapest fixed-step configuration whose position error
@@ -396,7 +396,7 @@ def scipy_jaxrhs_loop_time(n, rtol, atol):
     """Per-solve time of scipy LSODA when the RHS is the jitted JAX vector field (8 states).
 
     This is what a JAX code base gets by handing its model to scipy: every RHS call pays JAX's
-    dispatch (~10 us), which dominates. Reported beside the pure-Python baseline, never instead.
+    dispatch, which dominates. Reported beside the pure-Python baseline, never instead.
     """
     fs = lane_factors(n, seed=2)
     ts = np.arange(int(DURATION * HZ) + 1) / HZ
@@ -478,9 +478,9 @@ def run_benchmark(quick: bool = False, progress=None) -> dict:
                 tp.append(r)
                 bar.update()
     out["throughput"] = tp
-    # Re-time the plain scipy loops now and keep the faster of the two timings. On this VM the
-    # same loop took 5.5 to 14.9 ms per solve in different runs, while our batched throughput
-    # moved by ~10 %: a loop timed minutes before our side can inflate the ratio, and the faster
+    # Re-time the plain scipy loops now and keep the faster of the two timings. The scipy loop's
+    # speed drifts between runs far more than our batched throughput (docs/paper_notes.md): a loop
+    # timed minutes before our side can inflate the ratio, and the faster
     # timing is the conservative choice for our claims. Both timings are kept.
     for p in pairs.values():
         s_row = p["scipy"]

@@ -19,8 +19,6 @@ ROOTS = ("experiments", "lugre_jax/reproduce", "lugre_jax/_cli")
 KNOWN = {
     "experiments/diagnose_emps/run.py": "lugre_jax.diagnose._model, ._select, lugre_jax.io._emps, ._recording",
     "lugre_jax/_cli/bench.py": "lugre_jax._bench",
-    "lugre_jax/_cli/diagnose.py": "lugre_jax.io._emps, ._recording, lugre_jax.diagnose._physics, lugre_jax.io._atomic",
-    "lugre_jax/_cli/_signals.py": "lugre_jax.io._atomic.deferred_signals (export it from lugre_jax.io)",
 }
 
 

@@ -40,8 +40,7 @@ def add_parser(subparsers) -> None:
 
 
 def _load(path: str):
-    from ..io._emps import load_emps
-    from ..io._recording import load_recording
+    from ..io import load_emps, load_recording
 
     if path.lower().endswith(".mat"):
         return load_emps(path)
@@ -52,9 +51,8 @@ def run(args) -> int:
     import math
 
     from ..diagnose import diagnose, plot_report, public_report
-    from ..diagnose._physics import CANDIDATES
-    from ..io import write_json
-    from ..io._validate import load_params_json
+    from ..diagnose import CANDIDATES
+    from ..io import load_params_json, write_json
     from ._outputs import Outputs
 
     if args.block_s is not None and not (math.isfinite(args.block_s) and args.block_s > 0):

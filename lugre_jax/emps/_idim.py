@@ -50,7 +50,7 @@ def decimate_matlab(x, r: int):
 
 
 def sample_period(run: EmpsRun) -> float:
-    """Nominal sample period: 1/(sample rate rounded to a whole Hz) -- 1 ms, the scripts' ``pas``."""
+    """Nominal sample period: 1/(sample rate rounded to a whole Hz) -- 1e-3 s, the scripts' ``pas``."""
     return 1.0 / round(1.0 / run.dt)
 
 

@@ -55,8 +55,9 @@ class RungeKutta(AbstractStepping):
     """``substeps`` steps of an explicit diffrax solver per sample."""
 
     solver: diffrax.AbstractSolver = diffrax.Tsit5()
-    # 10 x 0.1 ms: the smooth Coulomb sign is stiff below ~1e-4 m/s and a reversal crosses that band
-    # in ~0.2 ms; against scipy (tests/test_emps.py) 4 substeps leave 0.4 um, 10 leave 0.03 um.
+    # 10 substeps of 1e-4 s: the smooth Coulomb sign is stiff below ~1e-4 m/s and a reversal
+    # crosses that band in ~2e-4 s; against scipy (tests/test_emps.py) 4 substeps leave 0.4 um,
+    # 10 leave 0.03 um.
     substeps: int = eqx.field(static=True, default=10)
 
     def advance(self, model, x, u, T):

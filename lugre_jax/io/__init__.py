@@ -45,4 +45,4 @@ from ._stribeck_data import (
     load_stribeck_csv as load_stribeck_csv,
     summarise_samples as summarise_samples,
 )
-from ._validate import read_json as read_json  # noqa: E402
+from ._validate import load_params_json as load_params_json, read_json as read_json  # noqa: E402

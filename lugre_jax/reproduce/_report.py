@@ -208,7 +208,7 @@ def row_fig12(R, S):
            "segment 2's deflection to segment 3's, and eq. 20's sigma1*dz/dt turns that into torque spikes"
            + (f" (observer sigma1 = 0: peak velocity error {_f(d['near 1.2 deg/s']['max_abs_velocity_error_deg_s'])} instead of "
               f"{_f(p['near 1.2 deg/s']['max_abs_velocity_error_deg_s'])} deg/s)" if d else "")
-           + ". Same with dt = 0.5 ms and the adaptive Kvaerno5 solver: not a numerical artefact. A single whole curve "
+           + ". Same with dt = 5e-4 s and the adaptive Kvaerno5 solver: not a numerical artefact. A single whole curve "
            "has no switch; near 0.05 deg/s all are small.")
     return _row("Fig. 12", "ramp 0 -> 1.5 deg/s in 4 s: whole identification gives bulges near 0.05 and 1.2 deg/s; "
                 "piecewise none", "; ".join(parts), "reproduced" if better else "not reproduced", why, m, "fig12.png")

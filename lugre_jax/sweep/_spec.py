@@ -14,7 +14,7 @@ Schema (``?`` = optional)::
                     or {"metric": <one of those>, "name"?, "window"?, "band"?, "threshold"?}],
       "second_order"?: false (sobol),  "levels"?: [k per name] (grid),
       "stepping"?: {"solver": "bosh3"|"tsit5"|..., "dt": s}   fast fixed step (default: the
-                   scenario's solver section, else Tsit5 at 2.5 ms),
+                   scenario's solver section, else Tsit5 at 2.5e-3 s),
       "fallback"?: {"rtol"?, "atol"?, "max_steps"?} | null   stiff Kvaerno5 re-solve of failed lanes,
       "chunk_size"?: points per chunk file (default 4096), "num_resamples"?: 100, "conf_level"?: 0.95
     }
