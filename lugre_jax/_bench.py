@@ -37,24 +37,22 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ._params import from_vector, to_vector
-import diffrax
 
 from . import simulate as _simulate_api
 from ._simulation import FixedStep, Lanes, SaveAt, System, broadcast_system, map_lanes, vector_field
 from ._simulation._system import rates as _rates, split as _split
+from .io import FIXED_SOLVERS
 
-_SOLVERS = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
-            "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
 
 
 def _evals_per_step(solver: str) -> int:
-    return FixedStep(_SOLVERS[solver]()).evals_per_step
+    return FixedStep(FIXED_SOLVERS[solver]()).evals_per_step
 
 
 @functools.lru_cache(maxsize=None)
 def _options(solver, dt, reduce, sample_mean, chunk_size, shard):
     # Built once per configuration, as a user holds them: the timed loops measure the solve.
-    return dict(stepping=FixedStep(_SOLVERS[solver](), dt=dt), saveat=SaveAt(fn=reduce, mean=sample_mean),
+    return dict(stepping=FixedStep(FIXED_SOLVERS[solver](), dt=dt), saveat=SaveAt(fn=reduce, mean=sample_mean),
                 lanes=Lanes(chunk_size=chunk_size, shard=shard))
 
 

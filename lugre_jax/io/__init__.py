@@ -39,6 +39,7 @@ from ._recording import (
     recording_from_arrays as recording_from_arrays,
     write_recording as write_recording,
 )
+from ._scenario import ADAPTIVE_SOLVERS as ADAPTIVE_SOLVERS, FIXED_SOLVERS as FIXED_SOLVERS
 from ._scenario import ScenarioError as ScenarioError, load_scenario as load_scenario, scenario_from_dict as scenario_from_dict
 from ._stribeck_data import (
     StribeckData as StribeckData,

@@ -95,22 +95,28 @@ class EmpsRun(eqx.Module):
                        self.kp, self.kv, self.has_pulses, self.source)
 
 
+def _loadmat(path: Path, expected: str) -> dict:
+    """The variables of the .mat file ``path``; one-line ``ValueError`` naming the file when it is
+    absent (``expected`` says what to pass) or not a MATLAB file."""
+    import scipy.io
+
+    if not path.is_file():
+        raise ValueError(f"{path}: EMPS file not found; pass the path to {expected} "
+                         f"(default ../shared/data/emps/DATA_EMPS.mat)")
+    try:
+        return scipy.io.loadmat(str(path))
+    except Exception as e:  # scipy raises several types for a corrupt or foreign file
+        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ValueError(f"{path}: cannot read as a MATLAB .mat file ({msg})") from None
+
+
 def read_emps_mat(path: str | os.PathLike) -> EmpsRun:
     """Read an EMPS .mat file (DATA_EMPS.mat layout, optional ``pulses_N``) strictly.
 
     Raises ``ValueError`` with one line naming the file and the missing or malformed key.
     """
-    import scipy.io
-
     path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: EMPS file not found; pass the path to a .mat file with "
-                         f"{list(EMPS_KEYS)} (default ../shared/data/emps/DATA_EMPS.mat)")
-    try:
-        d = scipy.io.loadmat(str(path))
-    except Exception as e:  # scipy raises several types for a corrupt or foreign file
-        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise ValueError(f"{path}: cannot read as a MATLAB .mat file ({msg})") from None
+    d = _loadmat(path, f"a .mat file with {list(EMPS_KEYS)}")
     for k in EMPS_KEYS:
         if k not in d:
             raise ValueError(f"{path}: key '{k}' missing; expected an EMPS run with {list(EMPS_KEYS)} "
@@ -164,17 +170,10 @@ def load_emps(path: str | os.PathLike, decimate: bool = True) -> Recording:
 
     With ``decimate=False`` the 1 kHz filtered data (after step 4) are returned instead.
     """
-    import scipy.io
     from scipy import signal
 
     path = Path(path)
-    if not path.exists():
-        raise ValueError(f"{path}: EMPS file not found; pass the path to DATA_EMPS.mat "
-                         f"(default ../shared/data/emps/DATA_EMPS.mat)")
-    try:
-        d = scipy.io.loadmat(str(path))
-    except Exception as e:  # scipy raises several types for a corrupt file
-        raise ValueError(f"{path}: cannot read as a MATLAB .mat file ({e})") from None
+    d = _loadmat(path, "DATA_EMPS.mat")
     need = ("t", "qm", "qg", "vir", "gtau")
     missing = [k for k in need if k not in d]
     if missing:

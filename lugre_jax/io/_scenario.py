@@ -199,10 +199,11 @@ def _reference(d: Any, where: str = "reference"):
     )
 
 
-_FIXED = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
-          "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
-_ADAPTIVE = {"kvaerno5": diffrax.Kvaerno5, "kvaerno3": diffrax.Kvaerno3, "tsit5": diffrax.Tsit5,
-             "dopri5": diffrax.Dopri5}
+# The solver names files may use (scenario "solver.name", sweep SPEC "stepping.solver").
+FIXED_SOLVERS = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
+                 "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
+ADAPTIVE_SOLVERS = {"kvaerno5": diffrax.Kvaerno5, "kvaerno3": diffrax.Kvaerno3, "tsit5": diffrax.Tsit5,
+                    "dopri5": diffrax.Dopri5}
 
 
 def _stepping(s: Any, sample_hz: float):
@@ -212,7 +213,7 @@ def _stepping(s: Any, sample_hz: float):
     method = s.get("method", "adaptive")
     if method not in ("fixed", "adaptive"):
         raise ScenarioError(f"solver.method: expected \"adaptive\" or \"fixed\", got {method!r}")
-    names = _FIXED if method == "fixed" else _ADAPTIVE
+    names = FIXED_SOLVERS if method == "fixed" else ADAPTIVE_SOLVERS
     name = s.get("name", "tsit5")
     if name not in names:
         raise ScenarioError(f"solver.name: expected one of {', '.join(sorted(names))} for method "

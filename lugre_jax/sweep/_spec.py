@@ -33,7 +33,7 @@ from typing import Any
 import diffrax
 
 from .._simulation import Adaptive, FixedStep
-from ..io import read_json, scenario_from_dict
+from ..io import FIXED_SOLVERS, read_json, scenario_from_dict
 from ._metrics import METRICS, AbstractMetric
 from ._paths import Path, parse_path
 from ._problem import check_problem
@@ -43,8 +43,6 @@ _TOP = {"scenario", "problem", "sampler", "n", "seed", "outputs", "second_order"
         "fallback", "chunk_size", "num_resamples", "conf_level"}
 
 
-_FIXED_SOLVERS = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax.Heun, "ralston": diffrax.Ralston,
-                  "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
 # The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
 # window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
 STIFF_DEFAULT = dict(rtol=1e-6, atol=1e-9, max_steps=100_000)
@@ -203,11 +201,11 @@ def spec_from_dict(d: Any, where: str = "SPEC", base_dir: FsPath | None = None) 
     if "stepping" in d:
         s = d["stepping"]
         if not isinstance(s, dict) or sorted(set(s) - {"solver", "dt"}):
-            raise ValueError(f"{where}.stepping: expected {{\"solver\": one of {', '.join(_FIXED_SOLVERS)}, \"dt\": seconds}}")
+            raise ValueError(f"{where}.stepping: expected {{\"solver\": one of {', '.join(FIXED_SOLVERS)}, \"dt\": seconds}}")
         name = s.get("solver", "tsit5")
-        if name not in _FIXED_SOLVERS:
-            raise ValueError(f"{where}.stepping.solver: expected one of {', '.join(_FIXED_SOLVERS)}, got {name!r}")
-        fast = FixedStep(_FIXED_SOLVERS[name](), dt=_pos(s, "dt", f"{where}.stepping", 2.5e-3))
+        if name not in FIXED_SOLVERS:
+            raise ValueError(f"{where}.stepping.solver: expected one of {', '.join(FIXED_SOLVERS)}, got {name!r}")
+        fast = FixedStep(FIXED_SOLVERS[name](), dt=_pos(s, "dt", f"{where}.stepping", 2.5e-3))
         try:
             fast.check(opts["sample_hz"])
         except ValueError as e:
