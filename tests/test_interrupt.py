@@ -27,6 +27,13 @@ def _cli_module() -> list[str]:
     return ["-m", "lugre_jax_cli"] if (root / "lugre_jax_cli.py").exists() else ["-m", "lugre_jax.cli"]
 
 
+def default_sigint() -> None:
+    """In the child before exec: SIGINT back to its default. A shell starts background jobs with SIGINT
+    ignored and the CLI keeps an inherited SIG_IGN (as ``nohup`` asks), so a test run from such a job
+    would otherwise send a SIGINT that the CLI rightly ignores, and the run completes."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _previous_result(out: Path) -> dict:
     """A stand-in for an earlier complete result: a file and the manifest that marks it complete."""
     out.mkdir()
@@ -40,7 +47,8 @@ def _interrupt_reproduce(tmp_path: Path, sig: int, extra: list[str], wait_for_fi
     out = tmp_path / "out"
     before = _previous_result(out)
     cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--no-progress", "--out", str(out), *extra]
-    p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=default_sigint)
     # Wait until the run has written its first file into its temporary folder (mid-run, partial
     # output exists), or, quicker, until that folder exists (the run is compiling and running).
     deadline = time.monotonic() + 600
