@@ -310,6 +310,10 @@ CASES: list[Case] = [
          lambda d: _simulate(d, _scen(solver={"method": "fixed", "dt": 0.015}))),
     Case("sim-J0", "simulate: J = 0", lambda d: _simulate(d, _scen(joint={"J": 0}))),
     Case("sim-string", "simulate: a string duration", lambda d: _simulate(d, _scen(duration_s="10"))),
+    Case("sim-too-large", "simulate: 20 million samples (a 1.5 GB CSV) without --force",
+         lambda d: _simulate(d, _scen(duration_s=200000.0, solver={"method": "fixed"}))),
+    Case("sim-step-budget", "simulate: 20000 s on the default adaptive stepping (beyond its max_steps)",
+         lambda d: _simulate(d, _scen(duration_s=20000.0))),
     Case("sim-undecodable", "simulate: undecodable bytes",
          lambda d: ["simulate", _w(d, "s.json", json.dumps(SCENARIO).encode() + b"\xff"),
                     "--out", str(d / "out" / "t.csv")]),
@@ -348,8 +352,11 @@ def run_interrupt(sig_name: str, d: Path) -> dict:
 
     sig = getattr(signal, sig_name)
     argv = ["reproduce", "--quick", "--no-progress", "--only", "fig08", "--out", str(d / "out")]
+    # SIGINT back to its default in the child: a shell's background job inherits it ignored, and the
+    # CLI keeps an inherited SIG_IGN (as nohup asks), so the signal would be ignored, not lost.
     p = subprocess.Popen([sys.executable, *_cli_module(), *argv], cwd=Path(__file__).resolve().parents[1],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     while p.poll() is None and not any(f for s in d.glob(".out.incomplete-*") for f in s.iterdir()):
         time.sleep(0.2)
     ended_early = p.poll() is not None

@@ -12,7 +12,9 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 
     def _get_help_string(self, action):
         h = action.help or ""
-        if "%(default)" in h or action.default in (None, False, argparse.SUPPRESS) or not action.option_strings:
+        # identity, not ==: a default of 0 equals False but is a value to show
+        off = action.default is None or action.default is False or action.default == argparse.SUPPRESS
+        if "%(default)" in h or off or not action.option_strings:
             return h
         return h + " (default: %(default)s)"
 

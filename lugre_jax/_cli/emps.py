@@ -27,7 +27,7 @@ def add_parser(subparsers) -> None:
         description=(
             "Reproduce the EMPS benchmark's IDIM-LS, fit each friction model by output error through "
             "the sampled-data closed loop (driven by qg) and under the benchmark protocol (driven by "
-            "vir, truncated simulation error), and score both on the held-out last 30 %% of the "
+            "vir, truncated simulation error), and score both on the held-out last 30 % of the "
             "estimation run and on --validate. Writes DIR/RESULT.json, validation_benchmark.csv, "
             "validation_closed_loop.csv and PNG figures."),
     )

@@ -4,9 +4,9 @@ figure (PNG), the raw results (JSON, NPZ) and a report that puts the paper's cla
 for each figure and table (REPORT.md, report.json).
 
 The "real joint" is the paper's own Tables 1-2 model; the compensators use models identified from
-noisy steady-state data by the paper's optimisers (never the plant itself). About 3-4 minutes on 2
-cores (measured 3.3 min); ``--quick`` (reduced optimiser settings, no time-series fits, no seed study or
-excitation design) in about 1-1.5 minutes.
+noisy steady-state data by the paper's optimisers (never the plant itself). The full run takes a few
+minutes; ``--quick`` (reduced optimiser settings, no time-series fits, no seed study or excitation
+design) about a third of that.
 """
 
 from __future__ import annotations

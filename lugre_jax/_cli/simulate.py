@@ -41,11 +41,12 @@ def run(args) -> int:
         n = int(round(opts["duration_s"] * opts["sample_hz"])) + 1
         check_output_size(csv_output_bytes(n, _COLUMNS), "--out", args.out, args.force)
         stepping = opts.get("stepping")
+        _check_step_budget(stepping, opts["duration_s"], args.scenario)
         say(f"{n:,} samples, {'default Adaptive' if stepping is None else stepping.describe()}; compiling ...")
         t0 = time.perf_counter()
         sol = simulate(system, opts["duration_s"], opts["sample_hz"], stepping=stepping)
         sol.theta.block_until_ready()
-        say(f"solved in {time.perf_counter() - t0:.1f} s (compilation included; a second run reuses it)")
+        say(f"solver ran {time.perf_counter() - t0:.1f} s (compilation included; a second run reuses it)")
         if int(sol.result) != 0:
             raise ValueError(
                 f"{args.scenario}: the solver failed (result code {int(sol.result)}: "
@@ -59,11 +60,41 @@ def run(args) -> int:
             "velocity_ref_deg_s": sol.v_ref,
         }
         cols = {k: np.asarray(v) for k, v in cols.items()}
-        write_csv(out, cols)
+        write_csv(out, _row_chunks(cols, n, quiet, args.out))
         if plot is not None:
             _plot(cols, plot)
     say(f"wrote {args.out}" + (f" and {args.plot}" if args.plot else ""))
     return 0
+
+
+_WRITE_CHUNK_ROWS = 1_000_000  # rows per slice handed to the writer: no full-size copy, a progress step
+
+
+def _row_chunks(cols: dict, n: int, quiet: bool, name: str):
+    """The trajectory in row slices (views, not copies), with a progress bar on a terminal: writing a
+    CSV of millions of rows takes longer than solving for it."""
+    from tqdm.auto import tqdm
+
+    with tqdm(total=n, desc=f"simulate: writing {name}", unit=" rows", unit_scale=True,
+              disable=quiet or n <= _WRITE_CHUNK_ROWS, file=sys.stderr) as bar:
+        for i in range(0, n, _WRITE_CHUNK_ROWS):
+            chunk = {k: v[i:i + _WRITE_CHUNK_ROWS] for k, v in cols.items()}
+            yield chunk
+            bar.update(len(chunk["time_s"]))
+
+
+def _check_step_budget(stepping, duration_s: float, scenario) -> None:
+    """Refuse before compiling a run the adaptive solver cannot finish: it takes steps of at most
+    ``dtmax``, so it needs at least duration / dtmax of its ``max_steps``."""
+    from .. import Adaptive
+
+    stepping = Adaptive() if stepping is None else stepping
+    if isinstance(stepping, Adaptive) and duration_s / stepping.dtmax > stepping.max_steps:
+        need = int(duration_s / stepping.dtmax) + 1
+        raise ValueError(
+            f"{scenario}: duration_s {duration_s:g} s needs at least {need:,} adaptive steps (steps of at most "
+            f"{stepping.dtmax:g} s), more than solver.max_steps = {stepping.max_steps:,}; expected solver.max_steps "
+            f">= {need:,}, or a solver section with \"method\": \"fixed\"")
 
 
 def _plot(cols, path):
