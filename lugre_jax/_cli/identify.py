@@ -38,7 +38,7 @@ def add_parser(subparsers) -> None:
                    help="fit the averaged data, or the eq. (12) sum-of-sines curves (the paper's route)")
     p.add_argument("--out", required=True, metavar="RESULT.json", help="result JSON to write")
     p.add_argument("--plot", default=None, metavar="FIG.png", help="optional PNG of the identified curve")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--quiet", action="store_true", help="no progress bar (shown on a terminal only)")
 
 
 def plot_identification(res, path) -> None:
@@ -120,7 +120,7 @@ def run(args) -> int:
                       "paper's ranges (vs in [0, 1] deg/s, Fc, Fs in [0, 10] N*m); consider --bounds auto",
                       file=sys.stderr)
         kw = dict(key=jax.random.key(args.seed), n_seeds=args.seeds, refine=args.refine, bounds=args.bounds)
-        with tqdm(total=2, desc=f"identify ({args.scheme}, {args.method}): compile + optimise", disable=args.quiet,
+        with tqdm(total=2, desc=f"identify ({args.scheme}, {args.method}): compile + optimise", disable=args.quiet or not sys.stderr.isatty(),
                   bar_format="{desc} {n_fmt}/{total_fmt} [{elapsed}]") as pb:
             if args.scheme == "piecewise":
                 res = identify(data, "piecewise", args.method, edges=edges, target=args.target, **kw)
