@@ -11,11 +11,17 @@ Conventions for doc authors (picked up automatically, whatever blocks exist):
 - ``<!-- no-run -->`` on the line before a fence excludes that block; ``<!-- slow -->`` runs it only
   with the slow tests.
 - Commands: every line of a ```bash / ```sh / ```console block that starts with ``lugre-jax`` (also
-  after ``&&``) is parsed in full; an inline `lugre-jax ...` (usage lines with [optional] parts and
-  ``...``) is checked at the option level: the subcommand exists and knows every --option named. With
-  the slow tests, the fenced commands are also run to completion, in a scratch folder.
+  after ``&&``) is parsed in full and run to completion in a scratch folder; an inline
+  `lugre-jax ...` (usage lines with [optional] parts and ``...``) is checked at the option level: the
+  subcommand exists and knows every --option named.
 
-README.md's python block runs in CI; the blocks of docs/*.md (identification runs, sweeps) are slow.
+In the default (CI) suite: every python block of README.md and docs/*.md not marked ``<!-- slow -->``
+(today README's API example, docs/identification.md's two, docs/sweeps.md's one), and every fenced
+command except those in :data:`SLOW_COMMANDS` (today an identify and a grid sweep): the whole file took
+47 s on 2 cores (``pytest tests/test_docs_run.py --durations=6``, 2026-11-24). Slow only (``-m
+slow``), because each runs for minutes: ``lugre-jax reproduce --out results`` (README.md, the full
+reproduction) and ``lugre-jax sweep experiments/scenarios/sweep_wide_lhs.json --out runs/wide``
+(docs/sweeps.md, 2,048 lanes with stiff re-solves). A guard test keeps that list in step with the docs.
 """
 
 from __future__ import annotations
@@ -31,6 +37,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+# Fenced commands that run for minutes: parsed in CI, run only with the slow tests (exact text).
+SLOW_COMMANDS = {
+    "lugre-jax reproduce --out results",
+    "lugre-jax sweep experiments/scenarios/sweep_wide_lhs.json --out runs/wide",
+}
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 FENCE = re.compile(r"^```([\w+-]*)\s*$")
 
@@ -133,30 +144,28 @@ def _run_python(path: Path, bs: list[dict], tmp_path: Path) -> None:
     assert r.returncode == 0, f"python blocks at {where} failed:\n{r.stderr[-3000:]}"
 
 
-def _doc_params(slow_files: bool):
+def _doc_params(slow: bool):
+    """One case per file: its unmarked blocks (fast), or, for the slow tests, all its blocks when any
+    is marked slow (a slow block may use names of the blocks before it)."""
     out = []
     for p in DOCS:
         bs = python_programs(p)
         fast = [b for b in bs if b["mark"] != "slow"]
-        if not bs:
-            continue
-        is_slow = p.name != "README.md"
-        if slow_files == is_slow and fast:
+        if not slow and fast:
             out.append(pytest.param(p, fast, id=p.name))
-        slow = [b for b in bs if b["mark"] == "slow"]
-        if slow_files and slow:
+        if slow and len(fast) < len(bs):
             out.append(pytest.param(p, bs, id=p.name + "-with-slow-blocks"))
     return out
 
 
-@pytest.mark.parametrize("path,bs", _doc_params(slow_files=False))
-def test_readme_python_blocks_run(path, bs, tmp_path):
+@pytest.mark.parametrize("path,bs", _doc_params(slow=False))
+def test_python_blocks_run(path, bs, tmp_path):
     _run_python(path, bs, tmp_path)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path,bs", _doc_params(slow_files=True))
-def test_docs_python_blocks_run(path, bs, tmp_path):
+@pytest.mark.parametrize("path,bs", _doc_params(slow=True))
+def test_slow_python_blocks_run(path, bs, tmp_path):
     _run_python(path, bs, tmp_path)
 
 
@@ -164,6 +173,14 @@ def test_harness_finds_the_readme_example():
     """Guard: the harness sees the README's python example (a harness that finds nothing passes)."""
     assert python_programs(ROOT / "README.md"), "no runnable ```python block found in README.md"
     assert any(fenced_commands(p) for p in DOCS) and any(inline_commands(p) for p in DOCS)
+    assert _doc_params(slow=False) and _fenced(slow=False), "nothing of the docs runs in the default suite"
+
+
+def test_slow_commands_are_in_the_docs():
+    """Guard: every command kept out of the default suite is still shown in the docs (a stale entry
+    would hide nothing, but a renamed heavy command would then run in CI: keep the list exact)."""
+    shown = {c for p in DOCS for _, c in fenced_commands(p)}
+    assert SLOW_COMMANDS <= shown, sorted(SLOW_COMMANDS - shown)
 
 
 # ---------------------------------------------------------------------------------- commands
@@ -171,6 +188,11 @@ def test_harness_finds_the_readme_example():
 
 def _all_fenced():
     return [pytest.param(c, id=f"{p.name}:{ln}") for p in DOCS for ln, c in fenced_commands(p)]
+
+
+def _fenced(slow: bool):
+    return [pytest.param(c, id=f"{p.name}:{ln}") for p in DOCS for ln, c in fenced_commands(p)
+            if (c in SLOW_COMMANDS) == slow]
 
 
 def _all_inline():
@@ -204,9 +226,18 @@ def test_inline_commands_name_real_options(cmd):
             assert flag in known, f"{cmd!r}: {words[0]} has no option {flag}; it has {sorted(known)}"
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("cmd", _all_fenced())
+@pytest.mark.parametrize("cmd", _fenced(slow=False))
 def test_fenced_commands_run(cmd, tmp_path):
+    _run_command(cmd, tmp_path)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cmd", _fenced(slow=True))
+def test_slow_fenced_commands_run(cmd, tmp_path):
+    _run_command(cmd, tmp_path)
+
+
+def _run_command(cmd: str, tmp_path: Path) -> None:
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     argv = shlex.split(cmd)[1:]
     r = subprocess.run([sys.executable, *_cli_module(), *argv], cwd=_scratch(tmp_path), capture_output=True,
