@@ -3,7 +3,7 @@ sampled-data loop, identified (IDIM-LS as the benchmark's scripts, output error 
 simulator) and scored by the benchmark's own protocols. SI units (m, m/s, N, kg). See docs/emps.md.
 """
 
-from ..io._emps import EmpsRun as EmpsRun, read_emps_mat as read_emps_mat
+from ..io import EmpsRun as EmpsRun, read_emps_mat as read_emps_mat
 from ._fit import (
     FitResult as FitResult,
     RunArrays as RunArrays,

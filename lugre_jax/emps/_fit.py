@@ -30,7 +30,7 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
-from ..io._emps import EmpsRun
+from ..io import EmpsRun
 from ._idim import N_BORDER, filtered_kinematics, sample_period
 from ._models import AbstractEmpsModel
 from ._simulate import AbstractStepping, closed_loop, default_stepping, open_loop

@@ -20,7 +20,7 @@ import dataclasses
 
 import numpy as np
 
-from ..io._emps import EmpsRun
+from ..io import EmpsRun
 
 N_BORDER = 49  # MATLAB's n_border = 50, 1-based
 

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 
-from ..io._emps import EmpsRun
+from ..io import EmpsRun
 from ._fit import FitResult, RunArrays, fit_closed_loop, fit_open_loop
 from ._idim import IdimResult, idim_ls
 from ._models import MODELS, AbstractEmpsModel, AsymmetricCoulombViscous, CoulombViscous
@@ -164,7 +164,7 @@ def identify_emps(run: EmpsRun, validation: EmpsRun | None = None, *,
 
 def write_emps_outputs(report: EmpsReport, out: str | Path) -> list[Path]:
     """RESULT.json, validation_benchmark.csv, validation_closed_loop.csv and the figures, atomically."""
-    from ..io._atomic import write_csv, write_json
+    from ..io import write_csv, write_json
     from ._plots import plot_report
 
     out = Path(out)

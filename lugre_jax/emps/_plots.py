@@ -12,7 +12,7 @@ def plot_report(report, out: Path, run_name: str) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..io._atomic import save_figure
+    from ..io import save_figure
 
     c = report.models[report.best_closed_loop].closed_loop[run_name]
     b = report.models[report.best_benchmark].benchmark[run_name]

@@ -23,7 +23,7 @@ import numpy as np
 
 from .._types import PRNGKeyArray
 from ..friction import AbstractFrictionModel, Segmented
-from ..io._stribeck_data import StribeckData, summarise_samples
+from ..io import StribeckData, summarise_samples
 
 PAPER_LIKE_SEED = 284  # the paper's article number; any fixed value would do
 PAPER_LIKE_NOISE_SD = 0.08  # N*m per sample
@@ -113,7 +113,7 @@ def sample_stribeck_data(
 
 def write_paper_like_csv(path, seed: int = PAPER_LIKE_SEED) -> StribeckData:
     """Generate the shipped data set and write it as a Stribeck CSV (atomically). Returns it averaged."""
-    from ..io._atomic import atomic_path
+    from ..io import atomic_path
 
     cols = make_paper_like_samples(seed)
     with atomic_path(path) as tmp:

@@ -42,7 +42,7 @@ import numpy as np
 from .._params import bounds_of, from_vector, names_of, units_of
 from .._types import PRNGKeyArray
 from ..friction import CoulombViscous, Segmented, Stribeck
-from ..io._stribeck_data import StribeckData
+from ..io import StribeckData
 from ._smoothing import SmoothingSpline, TangentBranch, fit_smoothing_spline, fit_sum_of_sines, fit_tangent_branch
 from ._uncertainty import Uncertainty, standard_errors
 

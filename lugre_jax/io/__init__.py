@@ -20,9 +20,11 @@ from ._atomic import (
 from ._emps import (
     EMPS_REFERENCE as EMPS_REFERENCE,
     SI_UNITS as SI_UNITS,
+    EmpsRun as EmpsRun,
     default_emps_path as default_emps_path,
     emps_idim_ls as emps_idim_ls,
     load_emps as load_emps,
+    read_emps_mat as read_emps_mat,
 )
 from ._epos import (
     TRO2021_NOMINAL_TORQUE_NM as TRO2021_NOMINAL_TORQUE_NM,

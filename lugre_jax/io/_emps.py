@@ -162,6 +162,7 @@ def read_emps_mat(path: str | os.PathLike) -> EmpsRun:
 
 
 def default_emps_path(data_root: str | os.PathLike = "../shared/data") -> Path:
+    """Where DATA_EMPS.mat lies under a data folder laid out as the shared one (``emps/DATA_EMPS.mat``)."""
     return Path(data_root) / "emps" / "DATA_EMPS.mat"
 
 
