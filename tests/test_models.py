@@ -109,7 +109,7 @@ def test_motor_time_constants_match_eq6():
 def test_benchmark_scipy_rhs_is_the_same_system():
     # The scipy baseline uses a hand-written RHS; it must be the simulator's vector field.
     # Both of them: the scalar one and the numpy-style one.
-    from lugre_jax._bench import _array_rhs, _numpy_rhs, bench_system, lane_factors
+    from lugre_jax._cli._bench import _array_rhs, _numpy_rhs, bench_system, lane_factors
 
     f = lane_factors(1, seed=9)[0]
     sys1 = jax.tree.map(lambda x: x[0] if eqx.is_array(x) else x, bench_system(f[None]))

@@ -9,16 +9,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("bench", help="benchmark the batched simulator against a scipy loop",
                        description="Batched JAX simulator vs a Python loop of scipy LSODA, gradient "
                        "cost vs forward cost, 1 vs 2 devices, peak memory. Writes JSON.")
-    p.add_argument("--out", required=True, help="JSON file to write")
+    p.add_argument("--out", required=True, metavar="BENCH.json", help="JSON file to write")
     p.add_argument("--quick", action="store_true", help="smaller batches (a few minutes)")
 
 
 def run(args) -> int:
-    from .._bench import run_benchmark
     from ..io import write_json
+    from ._bench import run_benchmark
+    from ._outputs import Outputs
 
-    res = run_benchmark(quick=args.quick)
-    write_json(args.out, res)
+    with Outputs() as outs:
+        out = outs.file(args.out, "--out", ".json")  # checked before minutes of work
+        res = run_benchmark(quick=args.quick)
+        write_json(out, res)
     keys = [k for k in res if k.startswith(("speedup", "two_devices"))]
     for k in keys:
         print(f"{k}: {res[k]:.1f}")

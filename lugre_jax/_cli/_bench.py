@@ -1,4 +1,8 @@
-"""Speed benchmark of the batched simulator (issue: core simulator), all ratios measured in one run.
+"""Speed benchmark of the batched simulator (``lugre-jax bench``), all ratios measured in one run.
+
+An application of the library, beside the CLI that runs it: it uses the public API, except
+:func:`rhs_floor`, which times the time loop's own right-hand side (``_simulation._system.rates``
+on the solver's tuple-of-arrays state), an internal layout that is deliberately not API.
 
 Scenario: the paper's segmented LuGre joint (Tables 1-2, J = 0.128) under velocity PI (kp = 8,
 ki = 60) commanded at 0.02 deg/s for 20 s, a stick-slip run. Each lane gets its own parameter set
@@ -36,13 +40,13 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._params import from_vector, to_vector
-
-from . import simulate as _simulate_api
-from ._simulation import FixedStep, Lanes, SaveAt, System, broadcast_system, map_lanes, vector_field
-from ._simulation._system import rates as _rates, split as _split
-from .io import FIXED_SOLVERS
-
+from .. import FixedStep, Lanes, SaveAt, System, broadcast_system, map_lanes, vector_field
+from .. import simulate as _simulate_api
+from .._simulation._system import rates as _rates, split as _split  # rhs_floor only: see the docstring
+from ..control import VelocityPID, VelocitySteps
+from ..friction import LuGre, from_vector, to_vector
+from ..io import FIXED_SOLVERS
+from ..plant import PAPER_J, Joint, paper_friction, paper_segment
 
 
 def _evals_per_step(solver: str) -> int:
@@ -61,9 +65,7 @@ def simulate(system, duration, hz, *, solver="tsit5", dt=2.5e-3, batched=False, 
     """The benchmark's configurations (solver name, dt) as the simulator's objects."""
     return _simulate_api(system, duration, hz, batched=batched,
                          **_options(solver, dt, reduce, sample_mean, chunk_size, shard))
-from .control import VelocityPID, VelocitySteps
-from .friction import LuGre
-from .plant import PAPER_J, Joint, paper_friction, paper_segment
+
 
 V_CMD, KP, KI, DURATION, HZ = 0.02, 8.0, 60.0, 20.0, 100.0
 _SCALED = ("Fc", "Fs", "sigma0", "sigma1", "sigma2")
@@ -131,7 +133,7 @@ def _numpy_rhs(factors):
 def _array_rhs(factors):
     """The same right-hand side written the way numpy code usually is: parameters as arrays over
     the three segments, ufuncs on them, the state as an array. Each ufunc call on a 3-element array
-    costs about a microsecond of interpreter and dispatch overhead, which is what makes this the
+    pays interpreter and dispatch overhead far above its arithmetic, which is what makes this the
     slower (and more common) plain-scipy baseline."""
     keys = ("Fc", "Fs", "vs", "sigma0", "sigma1", "sigma2")
     P = np.array([[float(getattr(paper_segment(k), n)) for n in keys] for k in (1, 2, 3)])
@@ -208,7 +210,7 @@ def accuracy_table(progress):
 
 def scipy_loop_time(n, rtol, atol, rhs=None, repeat=3):
     """Per-solve time of a loop of ``n`` scipy solves, best of ``repeat`` loops (as for our side:
-    on this machine single loops varied by up to 40 % from run to run)."""
+    single loops vary from run to run, docs/performance.md)."""
     fs = lane_factors(n, seed=2)
     best = np.inf
     for _ in range(repeat):
@@ -368,7 +370,7 @@ import os, sys, time, resource, json
 os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=%d"
 import lugre_jax; lugre_jax.configure()
 import jax, numpy as np
-from lugre_jax._bench import bench_system, lane_factors, _tracking_errors, simulate, DURATION, HZ
+from lugre_jax._cli._bench import bench_system, lane_factors, _tracking_errors, simulate, DURATION, HZ
 n, chunk = %d, %r
 FAST = dict(solver=%r, dt=%r)
 s = bench_system(lane_factors(n, seed=7))
