@@ -2,7 +2,13 @@
 lugre_jax/_cli/ is parsed (not imported) and may not import a private lugre_jax module (a dotted
 component starting with ``_``) or a private name from outside that module's own subpackage.
 ``lugre_jax.reproduce`` may import its own private modules, and only public names of the rest of the
-package; experiments may import nothing private."""
+package; experiments may import nothing private.
+
+The library core (every other file of lugre_jax/) keeps its subpackages apart: a subpackage may import
+another subpackage's public names only (``from ..io import Recording``, not ``from ..io._recording
+import Recording``), may share the top-level private modules of the core (``_params``, ``_types``,
+``_simulation``, ``_fusion``), and never imports an application (``_cli``, ``cli``, ``reproduce``):
+:func:`library_violations`."""
 
 from __future__ import annotations
 
@@ -128,3 +134,101 @@ def test_the_checker_sees_private_imports(tmp_path):
 def test_applications_import_only_public_names(rel):
     bad = violations(rel)
     assert not bad, "private lugre_jax imports (export the name from the subpackage's __init__.py):\n" + "\n".join(bad)
+
+
+# ------------------------------------------------------------------------------ the library core
+
+APPLICATIONS = ("lugre_jax._cli", "lugre_jax.cli", "lugre_jax.reproduce")
+
+# Private cross-subpackage imports left to their owner (diagnose is another engineer's, issue 16).
+# Checked both ways: any other violation fails, and so does an entry that is no longer there.
+KNOWN_LIBRARY = {
+    "lugre_jax/diagnose/_synthetic.py": "lugre_jax.io._recording",
+    "lugre_jax/diagnose/_plots.py": "lugre_jax.io._atomic",
+}
+
+
+def _library_files(repo: Path = REPO) -> list[str]:
+    apps = {a.replace(".", "/") for a in APPLICATIONS}
+    out = []
+    for q in sorted((repo / "lugre_jax").rglob("*.py")):
+        rel = str(q.relative_to(repo))
+        if "__pycache__" in q.parts or any(rel == a + ".py" or rel.startswith(a + "/") for a in apps):
+            continue
+        out.append(rel)
+    return out
+
+
+def _imports(rel: str, repo: Path = REPO) -> list[tuple[int, str, str | None, str]]:
+    """(line, absolute module, imported name or None, statement) for every import in ``rel``."""
+    tree = ast.parse((repo / rel).read_text(), filename=rel)
+    here = _package_of(rel)
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name, None, ast.unparse(node)) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                parts = here.split(".")
+                module = ".".join(parts[: len(parts) - node.level + 1] + ([node.module] if node.module else []))
+            else:
+                module = node.module or ""
+            out += [(node.lineno, module, a.name, ast.unparse(node)) for a in node.names]
+    return out
+
+
+def library_violations(rel: str, repo: Path = REPO) -> list[tuple[str, str]]:
+    """(private module or application reached, 'file:line: statement') for each import of the library
+    file ``rel`` that crosses a boundary (see the module docstring)."""
+    here = _package_of(rel)
+    bad = []
+    for line, module, name, stmt in _imports(rel, repo):
+        if module.split(".")[0] != "lugre_jax":
+            continue
+        full = f"{module}.{name}" if name and name != "*" else module  # `from .. import _cli` names a module
+        app = next((a for a in APPLICATIONS if full == a or full.startswith(a + ".")), None)
+        if app is not None:
+            bad.append((app, f"{rel}:{line}: {stmt}"))
+            continue
+        private = _private_prefix(module)
+        if private is None and name is not None and name.startswith("_") and not name.startswith("__"):
+            private = f"{module}.{name}"
+        if private is None:
+            continue
+        owner = private.rsplit(".", 1)[0]
+        if owner == "lugre_jax":
+            continue  # a top-level private module of the core (_params, _types, _simulation), shared
+        if here == owner or here.startswith(owner + "."):
+            continue  # the subpackage's own private module
+        bad.append((private, f"{rel}:{line}: {stmt}"))
+    return list(dict.fromkeys(bad))  # one entry per statement and module, in order
+
+
+def test_the_library_checker_sees_boundary_crossings(tmp_path):
+    files = {
+        "lugre_jax/identify/_x.py": "from ..io._stribeck_data import StribeckData\nfrom ..io import StribeckData\n"
+                                    "from .._params import names_of\nfrom ._pso import PSO\nfrom .. import _simulation\n"
+                                    "from ..io import _validate\nfrom .._cli._outputs import Outputs\n"
+                                    "import lugre_jax.emps._fit\nfrom lugre_jax.reproduce import run_all\n",
+        "lugre_jax/_simulation/_y.py": "from ..friction._models import LuGre\nfrom ._system import rates\n",
+        "lugre_jax/metrics.py": "from .io._atomic import write_json\nfrom ._params import param\n",
+    }
+    for rel, text in files.items():
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text(text)
+    got = {rel: [v[1].split(": ", 1)[1] for v in library_violations(rel, tmp_path)] for rel in files}
+    assert got["lugre_jax/identify/_x.py"] == [
+        "from ..io._stribeck_data import StribeckData", "from ..io import _validate",
+        "from .._cli._outputs import Outputs", "import lugre_jax.emps._fit", "from lugre_jax.reproduce import run_all"]
+    assert got["lugre_jax/_simulation/_y.py"] == ["from ..friction._models import LuGre"]
+    assert got["lugre_jax/metrics.py"] == ["from .io._atomic import write_json"]
+    assert "lugre_jax/identify/_schemes.py" in _library_files() and "lugre_jax/_cli/_bench.py" not in _library_files()
+
+
+def test_library_subpackages_import_only_public_names_of_each_other():
+    found = {rel: library_violations(rel) for rel in _library_files()}
+    unexpected = [stmt for rel, vs in found.items() for mod, stmt in vs if KNOWN_LIBRARY.get(rel) != mod]
+    assert not unexpected, ("imports across a subpackage boundary (use the other subpackage's public names, "
+                            "exported in its __init__.py):\n" + "\n".join(unexpected))
+    gone = [rel for rel, mod in KNOWN_LIBRARY.items() if mod not in {m for m, _ in found.get(rel, [])}]
+    assert not gone, f"fixed, remove from KNOWN_LIBRARY: {gone}"
