@@ -120,7 +120,8 @@ def _rows(n=20, bad=None):
 @pytest.mark.parametrize(
     "text, fragments",
     [
-        ("time_s,position_deg,torque_nm\n" + "0,0,0\n" * 12, ["line 1", "velocity_deg_s"]),
+        # position or velocity may be absent (the other is derived), not both
+        ("time_s,torque_nm\n" + "0,0\n" * 12, ["line 1", "position_deg or velocity_deg_s"]),
         (GOOD_HEADER + _rows(bad=(5, 3, "nan")), ["line 7", "torque_nm", "finite"]),
         (GOOD_HEADER + _rows(bad=(4, 2, "abc")), ["line 6", "velocity_deg_s", "not a number"]),
         (GOOD_HEADER + _rows(bad=(8, 0, "0.01")), ["line 10", "time_s", "increasing"]),

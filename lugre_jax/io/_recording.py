@@ -9,7 +9,12 @@ parameter simply takes the units implied by the data); the units dict says which
 
 CSV format (header line required, comma separated, one sample per line)::
 
-    time_s,position_deg,velocity_deg_s,torque_nm[,velocity_ref_deg_s,position_ref_deg,current_a,voltage_v]
+    time_s,[position_deg,][velocity_deg_s,]torque_nm[,velocity_ref_deg_s,position_ref_deg,current_a,voltage_v]
+
+At least one of ``position_deg`` and ``velocity_deg_s`` must be present. A missing velocity is the
+position's central difference, a missing position the integral of the velocity; ``meta`` records
+which were measured (``velocity_measured``, ``position_measured``), so that the diagnosis conditions
+the kinematics from what was measured.
 
 Malformed input (missing column, non-numeric or NaN cell, non-increasing time) raises ``ValueError``
 naming the file, the line (1-based, header = line 1), the column and what was expected.
@@ -30,7 +35,8 @@ from typing import Any
 import equinox as eqx
 import numpy as np
 
-REQUIRED_COLUMNS = ("time_s", "position_deg", "velocity_deg_s", "torque_nm")
+REQUIRED_COLUMNS = ("time_s", "torque_nm")
+KINEMATIC_COLUMNS = ("position_deg", "velocity_deg_s")  # at least one of them
 OPTIONAL_COLUMNS = ("velocity_ref_deg_s", "position_ref_deg", "current_a", "voltage_v")
 PAPER_UNITS = {
     "time": "s",
@@ -130,7 +136,23 @@ def recording_from_arrays(
     acceleration=None, cutoff_hz: float | None = None, extra: dict | None = None,
     meta: dict | None = None,
 ) -> Recording:
-    """Build a :class:`Recording` from arrays (paper units unless ``units`` says otherwise)."""
+    """Build a :class:`Recording` from arrays (paper units unless ``units`` says otherwise).
+
+    ``position`` or ``velocity`` may be ``None`` (not measured): the velocity is then the position's
+    central difference, the position the trapezoidal integral of the velocity (from 0), and
+    ``meta['velocity_measured']`` / ``meta['position_measured']`` say so."""
+    if position is None and velocity is None:
+        raise ValueError(f"{source}: neither position nor velocity given; expected at least one of them")
+    meta = dict(meta or {})
+    meta.setdefault("velocity_measured", velocity is not None)
+    meta.setdefault("position_measured", position is not None)
+    time = np.asarray(time, dtype=np.float64)
+    if velocity is None and np.shape(position) == time.shape and time.size >= 2:
+        velocity = np.gradient(np.asarray(position, np.float64), time)
+    if position is None and np.shape(velocity) == time.shape and time.size >= 2:
+        from scipy.integrate import cumulative_trapezoid
+
+        position = np.concatenate([[0.0], cumulative_trapezoid(np.asarray(velocity, np.float64), time)])
     cols = {k: np.asarray(v, dtype=np.float64) for k, v in
             dict(time=time, position=position, velocity=velocity, torque=torque).items()}
     n = cols["time"].shape[0]
@@ -151,7 +173,7 @@ def recording_from_arrays(
     return Recording(
         cols["time"], cols["position"], cols["velocity"], np.asarray(acceleration, np.float64),
         cols["torque"], dict(PAPER_UNITS if units is None else units), source,
-        {k: np.asarray(v, np.float64) for k, v in (extra or {}).items()}, dict(meta or {}),
+        {k: np.asarray(v, np.float64) for k, v in (extra or {}).items()}, meta,
     )
 
 
@@ -182,12 +204,15 @@ def load_recording(path: str | os.PathLike, cutoff_hz: float | None = None) -> R
     check_delimiter(path, 1, text.splitlines()[0])
     check_unique_columns(path, 1, header)
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
+    if not any(c in header for c in KINEMATIC_COLUMNS):
+        missing.append(" or ".join(KINEMATIC_COLUMNS))
     if missing:
         raise ValueError(
             f"{path}: line 1: missing column(s) {missing}; expected a header with "
-            f"{list(REQUIRED_COLUMNS)} (optional {list(OPTIONAL_COLUMNS)}), got {header}"
+            f"{list(REQUIRED_COLUMNS)}, at least one of {list(KINEMATIC_COLUMNS)} "
+            f"(optional {list(OPTIONAL_COLUMNS)}), got {header}"
         )
-    wanted = [c for c in REQUIRED_COLUMNS + OPTIONAL_COLUMNS if c in header]
+    wanted = [c for c in REQUIRED_COLUMNS + KINEMATIC_COLUMNS + OPTIONAL_COLUMNS if c in header]
     idx = {c: header.index(c) for c in wanted}
     data: dict[str, list[float]] = {c: [] for c in wanted}
     lines: list[int] = []
@@ -223,24 +248,32 @@ def load_recording(path: str | os.PathLike, cutoff_hz: float | None = None) -> R
                          "to fit a friction model")
     cols = {c: np.asarray(v) for c, v in data.items()}
     check_uniform_time(path, cols["time_s"], np.asarray(lines))
-    check_motion(path, cols["velocity_deg_s"], cols["position_deg"])
+    pos, vel = cols.get("position_deg"), cols.get("velocity_deg_s")
+    if vel is not None:
+        check_motion(path, vel, pos)
+    else:
+        check_motion(path, np.gradient(pos, cols["time_s"]), pos, column="position_deg")
     check_not_constant(path, cols["torque_nm"], "torque_nm")
     extra = {c: cols[c] for c in OPTIONAL_COLUMNS if c in cols}
     return recording_from_arrays(
-        cols["time_s"], cols["position_deg"], cols["velocity_deg_s"], cols["torque_nm"],
+        cols["time_s"], pos, vel, cols["torque_nm"],
         source=str(path), cutoff_hz=cutoff_hz, extra=extra,
     )
 
 
 def write_recording(path: str | os.PathLike, rec: Recording) -> None:
-    """Write a recording in paper units as the CSV :func:`load_recording` reads (atomically)."""
+    """Write a recording in paper units as the CSV :func:`load_recording` reads (atomically); a
+    position or velocity that was derived, not measured (``meta``), is left out."""
     from ._atomic import write_csv
 
     if rec.units.get("position") != "deg":
         raise ValueError(f"write_recording writes paper units (deg); this recording is in {rec.units}")
-    cols: dict[str, Any] = {
-        "time_s": rec.time, "position_deg": rec.position, "velocity_deg_s": rec.velocity,
-        "torque_nm": rec.torque,
-    }
+    # only the measured kinematics: a derived column read back would pass for a measured one
+    cols: dict[str, Any] = {"time_s": rec.time}
+    if rec.meta.get("position_measured", True):
+        cols["position_deg"] = rec.position
+    if rec.meta.get("velocity_measured", True):
+        cols["velocity_deg_s"] = rec.velocity
+    cols["torque_nm"] = rec.torque
     cols.update({k: v for k, v in rec.extra.items() if k in OPTIONAL_COLUMNS})
     write_csv(path, cols, fmt="%.12g")

@@ -320,21 +320,21 @@ class GeneratedRecording:
 
     def columns(self) -> dict:
         """CSV columns in the project's recording format (``time_s, position_deg, ...``); without a
-        velocity column the position's central difference stands in for it (documented so)."""
-        v = self.velocity if self.velocity is not None else np.gradient(self.position, self.time)
-        return {"time_s": self.time, "position_deg": self.position, "velocity_deg_s": v,
-                "torque_nm": self.torque, "velocity_ref_deg_s": self.velocity_ref}
+        velocity sensor there is no ``velocity_deg_s`` column."""
+        c = {"time_s": self.time, "position_deg": self.position}
+        if self.velocity is not None:
+            c["velocity_deg_s"] = self.velocity
+        return c | {"torque_nm": self.torque, "velocity_ref_deg_s": self.velocity_ref}
 
     def to_recording(self):
-        """A :class:`lugre_jax.io.Recording` (imported lazily: this module stays independent)."""
+        """A :class:`lugre_jax.io.Recording` (imported lazily: this module stays independent); without
+        a velocity sensor the recording derives the velocity from the position (and says so)."""
         from ..io import recording_from_arrays
 
-        c = self.columns()
         return recording_from_arrays(
-            c["time_s"], c["position_deg"], c["velocity_deg_s"], c["torque_nm"],
+            self.time, self.position, self.velocity, self.torque,
             source=f"testing.generate({self.settings['excitation']}, {self.settings['effects']})",
-            extra={"velocity_ref_deg_s": c["velocity_ref_deg_s"]},
-            meta={"velocity_measured": self.velocity is not None, "generator": "lugre_jax.testing"})
+            extra={"velocity_ref_deg_s": self.velocity_ref}, meta={"generator": "lugre_jax.testing"})
 
 
 class _RHS:
