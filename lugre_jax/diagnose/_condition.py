@@ -40,12 +40,15 @@ def quantisation_step(x) -> float:
 class Conditioning:
     """How the kinematics were conditioned, and the noise estimated from the data.
 
-    ``torque_noise`` [torque unit], ``velocity_noise`` of the velocity column and ``position_noise``
-    (including quantisation, ``q/sqrt(12)``) per sample; ``source``: ``recording`` (used as loaded:
-    already smooth enough), ``velocity`` (the column, Savitzky-Golay smoothed) or ``position``
-    (Savitzky-Golay derivatives of the position); ``window`` in samples (polynomial order 3);
-    ``accel_noise_torque``: the per-sample torque noise that J*a then carries (J from the first
-    least-squares estimate)."""
+    ``torque_noise`` [torque unit], ``velocity_noise`` of the velocity column (0 when there is none)
+    and ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
+    ``recording`` (used as loaded: already smooth enough), ``velocity`` (the column, Savitzky-Golay
+    smoothed) or ``position`` (Savitzky-Golay derivatives of the position); ``window`` in samples
+    (polynomial order 3); ``accel_noise`` and ``velocity_noise_after``: per-sample noise std of the
+    conditioned acceleration and velocity; ``accel_noise_torque``: what ``accel_noise`` means in
+    torque for the inertia used to choose the window; ``unresolved_fraction``: share of samples
+    where the kinematics are not resolved at this smoothing (left out of fit, validation and tests).
+    """
 
     torque_noise: float
     velocity_noise: float
@@ -55,6 +58,15 @@ class Conditioning:
     window: int
     accel_noise_torque: float
     velocity_noise_after: float
+    accel_noise: float = 0.0
+    unresolved_fraction: float = 0.0
+    velocity_measured: bool = True
+    position_measured: bool = True
+
+    def kinematic_noise(self, J: float, slope: float) -> float:
+        """Per-sample torque noise that the conditioned kinematics carry into an inverse model with
+        inertia ``J`` and friction slope ``slope`` (torque per velocity): errors in variables."""
+        return float(np.hypot(J * self.accel_noise, slope * self.velocity_noise_after))
 
     def to_json(self) -> dict:
         return dataclasses.asdict(self)
@@ -65,29 +77,45 @@ def _gain(W, deriv, dt, order=3):
     return float(np.linalg.norm(savgol_coeffs(W, order, deriv=deriv, delta=dt)))
 
 
-def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
-    """Choose and condition the kinematics of ``rec``; returns (conditioned recording, Conditioning).
+# A sample's kinematics count as resolved when the smoothing bias bound there is below this share of
+# the torque noise; elsewhere (sharp transients seen through a long window) J*a is not known from
+# the samples, and the sample leaves the fit, the validation and the tests.
+RESOLVED_BIAS_SHARE = 0.5
 
-    For each source (the velocity column; the position) and each Savitzky-Golay window W (order 3),
-    the torque error that the acceleration brings is estimated as ``J0^2*(bias_W^2 + noise_W^2)``:
-    ``noise_W`` from the estimated per-sample noise through the filter's exact gain, ``bias_W^2``
-    as the mean square difference from the lightest smoothing less that difference's own noise. The
-    (source, W) with the smaller estimate is used; its velocity, acceleration and smoothed position
-    replace the recording's. If that is the velocity column at the lightest window, the recording's
-    own derivatives (e.g. EMPS: the benchmark's filtered differences) are kept as loaded.
+
+def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
+    """Choose and condition the kinematics of ``rec``; returns (conditioned recording,
+    Conditioning, unresolved mask).
+
+    For each measured source (the velocity column; the position: ``rec.meta``'s
+    ``velocity_measured`` / ``position_measured``) and each Savitzky-Golay window W (order 3), the
+    torque error that the kinematics bring is estimated as ``J0^2*(4*bias_W^2 + noise_W^2) +
+    s2_0^2*noise_v^2``: ``noise_W`` from the estimated per-sample noise through the filter's exact
+    gain, ``bias_W^2`` from the change from W to 2W-1 less that change's own noise. The (source, W)
+    with the smaller estimate is used; its velocity, acceleration and smoothed position replace the
+    recording's. If that is the velocity column at the lightest window, the recording's own
+    derivatives (e.g. EMPS: the benchmark's filtered differences) are kept as loaded.
+
+    Unresolved samples: where the per-sample smoothing-bias bound exceeds
+    ``RESOLVED_BIAS_SHARE`` of the torque noise (widened by the window), and, with a velocity column,
+    sharp transients the sampling cannot resolve (:func:`unresolved_transients`).
     """
-    from ..io._recording import Recording
+    from ..io import Recording
 
     t = np.asarray(rec.time, float)
     dt = float(np.median(np.diff(t)))
+    vel_meas = bool(rec.meta.get("velocity_measured", True))
+    pos_meas = bool(rec.meta.get("position_measured", True))
     st = hf_noise_std(rec.torque)
-    sv = hf_noise_std(rec.velocity)
-    q = quantisation_step(rec.position)
-    sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0))
+    sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
+    q = quantisation_step(rec.position) if pos_meas else 0.0
+    sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
     wmax = max(5, int(max_window_s / dt) | 1)
     windows = [w for w in range(5, wmax + 1, 2) if w <= max(5, rec.n // 4)] or [5]
+    sources = ([("velocity", sv, 0, rec.velocity)] if vel_meas else []) + \
+              ([("position", sp, 1, rec.position)] if pos_meas else [])
     best = None
-    for source, sig, dv, x in (("velocity", sv, 0, rec.velocity), ("position", sp, 1, rec.position)):
+    for source, sig, dv, x in sources:
         for W in windows:
             W2 = 2 * W - 1
             if W2 > rec.n // 2:
@@ -104,14 +132,18 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
             bias2 = diff2 / 9.0
             sig_v = sig * _gain(W, dv, dt)
             # bias counts four times: unlike noise it is structured, and the residual tests see it
-            # (measured on issue #20's recording: W=37 left a located after-reversal mean, W=23 none)
+            # (see docs/diagnosis.md: a window with twice the bias left a located after-reversal mean)
             mse = J0 ** 2 * (4 * bias2 + noise2) + s2_0 ** 2 * sig_v ** 2
             if best is None or mse < best[0]:
                 best = (mse, source, W, sig_v, np.sqrt(noise2))
     _, source, W, sig_v, sig_a = best
+    common = dict(torque_noise=st, velocity_noise=sv, position_noise=float(sp), quantisation=q,
+                  accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
     if W == windows[0] and source == "velocity" and q == 0:
-        info = Conditioning(st, sv, sp, q, "recording", 1, float(J0 * sig_a), float(sig_v))
-        return rec, info
+        bad = unresolved_transients(rec.velocity, sv)
+        info = Conditioning(source="recording", window=1, accel_noise_torque=float(J0 * sig_a),
+                            velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
+        return rec, info, bad
     if source == "velocity":
         v = savgol_filter(rec.velocity, W, 3)
         a = savgol_filter(rec.velocity, W, 3, deriv=1, delta=dt)
@@ -123,12 +155,21 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1
     extra = dict(rec.extra)
-    extra["conditioning_bias_nm"] = np.abs(J0 * (a - a2)) / 3.0
+    bias_nm = np.abs(J0 * (a - a2)) / 3.0
+    extra["conditioning_bias_nm"] = bias_nm
+    from scipy.ndimage import maximum_filter1d
+
+    bad = maximum_filter1d((bias_nm > RESOLVED_BIAS_SHARE * st).astype(np.int8), W) > 0
+    if vel_meas:
+        bad |= unresolved_transients(rec.velocity, sv)
+    if source == "position" and q > 0:
+        # a quantised position resolves speeds above one step per window only: below that even the
+        # direction of motion is not known from the samples, so neither is the friction
+        bad |= maximum_filter1d((np.abs(v) < q / (W * dt)).astype(np.int8), W) > 0
     # The bristles follow the position path. A coarse encoder jerks z by sigma0*q at every step
-    # (measured, q = 0.005 deg: true model 0.1036 N*m against 0.0803 on the true path; noise 0.08),
-    # and smoothing the quantised position makes the path wiggle; so the path is complementary:
-    # the integral of the conditioned velocity, pulled to the measured position over ~4 s
-    # (measured 0.0805; 0.0817 at 1 s, 0.0918 at 0.25 s).
+    # (see docs/diagnosis.md), and smoothing the quantised position makes the path wiggle; so the
+    # path is complementary: the integral of the conditioned velocity, pulled to the measured
+    # position over ~4 s.
     from scipy.integrate import cumulative_trapezoid
     from scipy.ndimage import uniform_filter1d
 
@@ -138,7 +179,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     th = iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
     out = Recording(t, th, v, a, np.asarray(rec.torque, float), rec.units,
                     rec.source, extra, rec.meta)
-    return out, Conditioning(st, sv, sp, q, source, int(W), float(J0 * sig_a), float(sig_v))
+    info = Conditioning(source=source, window=int(W), accel_noise_torque=float(J0 * sig_a),
+                        velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
+    return out, info, bad
 
 
 def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:
