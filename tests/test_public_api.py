@@ -140,8 +140,9 @@ def test_applications_import_only_public_names(rel):
 
 APPLICATIONS = ("lugre_jax._cli", "lugre_jax.cli", "lugre_jax.reproduce")
 
-# Private cross-subpackage imports left to their owner (diagnose is another engineer's, issue 16).
-# Checked both ways: any other violation fails, and so does an entry that is no longer there.
+# Private cross-subpackage imports left to their owner (diagnose is another engineer's, issue 16), allowed
+# while present. Not strict, unlike KNOWN above: the owner is removing them in work not yet committed
+# when this was written (diagnose/_condition.py's went in 3e1a437); delete an entry once its file is clean.
 KNOWN_LIBRARY = {
     "lugre_jax/diagnose/_synthetic.py": "lugre_jax.io._recording",
     "lugre_jax/diagnose/_plots.py": "lugre_jax.io._atomic",
@@ -230,5 +231,3 @@ def test_library_subpackages_import_only_public_names_of_each_other():
     unexpected = [stmt for rel, vs in found.items() for mod, stmt in vs if KNOWN_LIBRARY.get(rel) != mod]
     assert not unexpected, ("imports across a subpackage boundary (use the other subpackage's public names, "
                             "exported in its __init__.py):\n" + "\n".join(unexpected))
-    gone = [rel for rel, mod in KNOWN_LIBRARY.items() if mod not in {m for m, _ in found.get(rel, [])}]
-    assert not gone, f"fixed, remove from KNOWN_LIBRARY: {gone}"
