@@ -54,12 +54,22 @@ def test_null_independent_recording_gives_none_at_floor():
     assert b["floor_ratio"] < 1.10 and b["at_floor"]
 
 
-@pytest.mark.slow
-def test_no_velocity_column_conditions_from_position():
-    g = T.generate(_short_staircase(1), (), sensors=T.Sensors(fs=100.0, velocity_column=False), seed=6)
-    rep = diagnose(g.to_recording(), progress=False, candidates=["asymmetry"])
-    assert rep["baseline"]["conditioning"]["source"] == "position"
-    assert rep["baseline"]["floor_ratio"] < 1.10
+@pytest.mark.parametrize("q", [0.0005, 0.005])
+def test_no_velocity_column_conditions_from_position(q):
+    """An encoder only (no velocity column; 0.0005 and 0.005-deg steps): the kinematics come from
+    the position, the torque noise is estimated within 5 %, the baseline is within 10 % of its floor
+    and nothing is located."""
+    g = T.generate(_short_staircase(1), (), sensors=T.Sensors(fs=100.0, velocity_column=False, quantisation=q),
+                   seed=6)
+    rec = g.to_recording()
+    assert rec.meta["velocity_measured"] is False
+    rep = diagnose(rec, progress=False)
+    b = rep["baseline"]
+    assert b["conditioning"]["source"] == "position"
+    assert abs(b["torque_noise_nm"] / 0.08 - 1) < 0.05
+    assert b["noise_floor_nm"] >= b["torque_noise_nm"]
+    assert b["floor_ratio"] < 1.10, b
+    assert rep["verdict"] == "none", rep["mismatch"]
 
 
 @pytest.mark.slow

@@ -8,7 +8,7 @@ Three studies (``--study``), each job appends one JSON line to ``<out>/runs.json
 * ``null``: effect-free recordings spanning the generator's settings (two plants, four excitations
   (144-s staircases, smooth or sharp; 60-120-s sine sweeps and multisines),
   100-1,000 Hz, torque noise 0.02-0.2 N*m, velocity noise 0-0.01 deg/s, quantisation 0-0.005 deg,
-  velocity column present or absent); the claim: ``none`` in >= 95 % and the baseline's validation
+  velocity column present or absent, and four velocity-only recordings); the claim: ``none`` in >= 95 % and the baseline's validation
   RMSE within 10 % of the estimated noise floor in every one;
 * ``issue``: the recording kind of issue #20 (its plant, PI, 288-s staircase, 200 Hz, its noise) for
   the null case and gravity, asymmetry, ripple, drift and ripple + asymmetry at the issue's sizes;
@@ -54,6 +54,14 @@ def null_settings(n: int = 32):
                     "velocity_noise": vn[(i // 3) % 3], "quantisation": qs[(i // 2) % 3],
                     "velocity_column": (i // 5) % 2 == 0, "effects": [], "seed": 1000 + i,
                     "short": True})
+    # a tachometer without an encoder: velocity only (the position is its integral)
+    for k, (plant, exc, fs, tn, vn) in enumerate([("issue", "staircase", 200.0, 0.08, 0.003),
+                                                  ("paper_like", "staircase_sharp", 500.0, 0.02, 0.01),
+                                                  ("issue", "multisine", 1000.0, 0.2, 0.0),
+                                                  ("paper_like", "sine_sweep", 100.0, 0.08, 0.003)]):
+        out.append({"key": f"null{n + k:02d}", "plant": plant, "excitation": exc, "fs": fs, "torque_noise": tn,
+                    "velocity_noise": vn, "quantisation": 0.0, "velocity_column": True, "position_column": False,
+                    "effects": [], "seed": 1000 + n + k, "short": True})
     return out
 
 
@@ -128,7 +136,8 @@ def run_one(job, top_k):
     plant = T.Plant() if job["plant"] == "issue" else PAPER_LIKE
     ctrl = T.VelocityPI() if job["plant"] == "issue" else T.VelocityPI(kp=4.0, ki=20.0)
     sens = T.Sensors(fs=job["fs"], torque_noise=job["torque_noise"], velocity_noise=job["velocity_noise"],
-                     quantisation=job["quantisation"], velocity_column=job["velocity_column"])
+                     quantisation=job["quantisation"], velocity_column=job["velocity_column"],
+                     position_column=job.get("position_column", True))
     effs = effects_of(job)
     t0 = time.time()
     g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"], job.get("short", False)), effs,

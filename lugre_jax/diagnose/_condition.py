@@ -63,11 +63,6 @@ class Conditioning:
     velocity_measured: bool = True
     position_measured: bool = True
 
-    def kinematic_noise(self, J: float, slope: float) -> float:
-        """Per-sample torque noise that the conditioned kinematics carry into an inverse model with
-        inertia ``J`` and friction slope ``slope`` (torque per velocity): errors in variables."""
-        return float(np.hypot(J * self.accel_noise, slope * self.velocity_noise_after))
-
     def to_json(self) -> dict:
         return dataclasses.asdict(self)
 
@@ -144,14 +139,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
         info = Conditioning(source="recording", window=1, accel_noise_torque=float(J0 * sig_a),
                             velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
         return rec, info, bad
-    if source == "velocity":
-        v = savgol_filter(rec.velocity, W, 3)
-        a = savgol_filter(rec.velocity, W, 3, deriv=1, delta=dt)
-        a2 = savgol_filter(rec.velocity, 2 * W - 1, 3, deriv=1, delta=dt)
-    else:
-        v = savgol_filter(rec.position, W, 3, deriv=1, delta=dt)
-        a = savgol_filter(rec.position, W, 3, deriv=2, delta=dt)
-        a2 = savgol_filter(rec.position, 2 * W - 1, 3, deriv=2, delta=dt)
+    v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W)
+    x = rec.velocity if source == "velocity" else rec.position
+    a2 = savgol_filter(x, 2 * W - 1, 3, deriv=1 + (source == "position"), delta=dt)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1
     extra = dict(rec.extra)
@@ -166,22 +156,64 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
         # a quantised position resolves speeds above one step per window only: below that even the
         # direction of motion is not known from the samples, so neither is the friction
         bad |= maximum_filter1d((np.abs(v) < q / (W * dt)).astype(np.int8), W) > 0
-    # The bristles follow the position path. A coarse encoder jerks z by sigma0*q at every step
-    # (see docs/diagnosis.md), and smoothing the quantised position makes the path wiggle; so the
-    # path is complementary: the integral of the conditioned velocity, pulled to the measured
-    # position over ~4 s.
-    from scipy.integrate import cumulative_trapezoid
-    from scipy.ndimage import uniform_filter1d
-
-    pos = np.asarray(rec.position, float)
-    iv = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
-    n_lp = max(1, int(4.0 / dt)) | 1
-    th = iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
     out = Recording(t, th, v, a, np.asarray(rec.torque, float), rec.units,
                     rec.source, extra, rec.meta)
     info = Conditioning(source=source, window=int(W), accel_noise_torque=float(J0 * sig_a),
                         velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
     return out, info, bad
+
+
+def conditioned_kinematics(t, position, velocity, source: str, W: int):
+    """(velocity, acceleration, bristle path) conditioned from ``source`` (``velocity`` or
+    ``position``) with an order-3 Savitzky-Golay window ``W``.
+
+    The bristles follow the position path. A coarse encoder jerks z by sigma0*q at every step (see
+    docs/diagnosis.md), and smoothing the quantised position makes the path wiggle; so the path is
+    complementary: the integral of the conditioned velocity, pulled to the measured position over
+    ~4 s. (The measured position itself is the other path the baseline fit may choose.)"""
+    from scipy.integrate import cumulative_trapezoid
+    from scipy.ndimage import uniform_filter1d
+
+    t = np.asarray(t, float)
+    dt = float(np.median(np.diff(t)))
+    if source == "velocity":
+        v = savgol_filter(velocity, W, 3)
+        a = savgol_filter(velocity, W, 3, deriv=1, delta=dt)
+    else:
+        v = savgol_filter(position, W, 3, deriv=1, delta=dt)
+        a = savgol_filter(position, W, 3, deriv=2, delta=dt)
+    pos = np.asarray(position, float)
+    iv = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
+    n_lp = max(1, int(4.0 / dt)) | 1
+    th = iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
+    return v, a, th
+
+
+def perturbed_kinematics(rec_in, cond: "Conditioning", seed: int = 0):
+    """Velocity and acceleration conditioned exactly as ``cond`` says from the measured signals with
+    fresh noise of the estimated size added (position: a uniform dither of one encoder step, or
+    white noise of the estimated std; velocity: white noise of the estimated std). The model's
+    prediction with these minus that on the conditioned recording is one draw of the errors in
+    variables that the derivatives' noise brings into the residual. The bristle path is not
+    perturbed: an encoder's error along the path is steps without chatter, which a dither does not
+    imitate (it would drive the bristles as a real dither does)."""
+    from ..io import derive_kinematics
+
+    rng = np.random.default_rng(seed)
+    t = np.asarray(rec_in.time, float)
+    pos = np.asarray(rec_in.position, float)
+    vel = np.asarray(rec_in.velocity, float)
+    if cond.position_measured:
+        pos = pos + (rng.uniform(-0.5, 0.5, pos.size) * cond.quantisation if cond.quantisation > 0
+                     else rng.standard_normal(pos.size) * cond.position_noise)
+    if cond.velocity_measured:
+        vel = vel + rng.standard_normal(vel.size) * cond.velocity_noise
+    elif cond.position_measured:
+        vel = np.gradient(pos, t)
+    if cond.source == "recording":
+        return vel, derive_kinematics(t, vel)
+    v, a, _ = conditioned_kinematics(t, pos, vel, cond.source, cond.window)
+    return v, a
 
 
 def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:

@@ -268,12 +268,16 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
     return {"statistic": float(Q), "df": m, "p_value": float(stats.chi2.sf(Q, m))}
 
 
-def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0) -> dict:
+def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, keep=None) -> dict:
     """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring.
 
     ``filter_lags``: the memory (in samples) of the filter that conditioned the kinematics; the
-    cross-correlation with acceleration and jerk and the whiteness test skip shorter lags."""
+    cross-correlation with acceleration and jerk and the whiteness test skip shorter lags.
+    ``keep``: the resolved samples (``r`` is 0 elsewhere); the inputs are correlated on those only,
+    since near an unresolved transient the residual keeps a smoothing bias below the resolution
+    threshold that lines up with the transient's large acceleration a window away."""
     r = np.asarray(r, float)
+    keep = np.ones(r.shape, bool) if keep is None else np.asarray(keep, bool)
     kappa = long_run_variance_factor(r, blocks)
     tests = binned_tests(rec, r, blocks, scales)
     pp = position_periodogram(rec.position, r, kappa)
@@ -290,7 +294,9 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0) ->
     for name, x in (("velocity", rec.velocity), ("acceleration", rec.acceleration),
                     ("jerk", jerk), ("sign_velocity", np.sign(rec.velocity))):
         ml = filter_lags if name in ("acceleration", "jerk") else 0
-        xc = xcorr_test(r, np.asarray(x, float), max_lag, L, ml)
+        x = np.asarray(x, float)
+        x = np.where(keep, x, np.mean(x[keep]) if keep.any() else 0.0)
+        xc = xcorr_test(r, x, max_lag, L, ml)
         if xc is not None:
             xcs[name] = xc
             tests.append({"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},

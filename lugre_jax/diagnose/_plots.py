@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io._atomic import save_figure
+from ..io import save_figure
 from . import _model as M
 
 

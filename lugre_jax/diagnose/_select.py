@@ -56,6 +56,27 @@ def _mismatch(loc: dict, at_floor: bool) -> dict:
     return loc
 
 
+def _eiv_noise(rec_in, rec, cond, model, kin, keep, draws: int = 2) -> float:
+    """Per-sample torque noise that the measured velocity and acceleration carry into the inverse
+    model: the measured signals are perturbed with fresh noise of the size estimated from the data,
+    conditioned the same way, and the model's prediction with them is compared with that on the
+    recording's (rms over the resolved samples, ``draws`` draws): J*a, the friction's slope and the
+    bristles' rate dependence, all through the fitted model."""
+    from ._condition import perturbed_kinematics
+
+    tau_hat = M.predict(model, kin)
+    ms = []
+    for seed in range(draws):
+        v, a = perturbed_kinematics(rec_in, cond, seed)
+        rp = eqx.tree_at(lambda r: (r.velocity, r.acceleration), rec,
+                         (np.asarray(v, float), np.asarray(a, float)))
+        # the same bristle path as the fit's
+        kp = eqx.tree_at(lambda k: (k.v, k.a), kin, (jnp.asarray(rp.velocity), jnp.asarray(rp.acceleration)))
+        d = M.predict(model, kp) - tau_hat
+        ms.append(float(np.mean(d[keep] ** 2)) if np.any(keep) else 0.0)
+    return float(np.sqrt(np.mean(ms)))
+
+
 def _sse(r, w):
     return float(np.sum(w * r ** 2))
 
@@ -192,8 +213,14 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     rec_in, rec = rec, crec
     kin = M.kinematics_of(rec)
-    # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk
+    # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk.
+    # A quantised position's error is correlated for as long as the joint takes to cross a step,
+    # seconds at slow speed, and the bristles carry it further: with derivatives of a quantised
+    # position the cross-correlations with acceleration and jerk have no null distribution we can
+    # bound from the data, so they are not run (flags past their largest lag, 0.5 s)
     flags = cond.window + 2 if cond.source != "recording" else 0
+    if cond.source == "position" and cond.quantisation > 0:
+        flags = int(round(0.5 / rec.dt)) + 1
     scales = M.data_scales(rec)
     scales["noise"] = cond.torque_noise
     blocks = M.block_ids(rec.time, block_s)
@@ -217,13 +244,13 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     kin = paths[path]
     info["bristle_path"] = path
     r0 = (tau - M.predict(base, kin)) * keep
-    # the floor of an inverse model: the torque noise and what the conditioned kinematics' noise
-    # brings through J*a and the viscous slope (errors in variables), both estimated from the data
-    kin_noise = cond.kinematic_noise(float(base.J), abs(float(getattr(base.friction, "sigma2", 0.0))))
+    # the floor of an inverse model: the torque noise and what the kinematics' noise brings through
+    # the fitted model (errors in variables), both estimated from the data
+    kin_noise = _eiv_noise(rec_in, rec, cond, base, kin, keep)
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
     scales["noise"] = floor  # the tests' resolution margins are shares of the per-sample floor
-    loc0 = _mismatch(L.locate(rec, r0, blocks, scales, alpha, flags), ratio <= AT_FLOOR)
+    loc0 = _mismatch(L.locate(rec, r0, blocks, scales, alpha, flags, keep), ratio <= AT_FLOOR)
     kappa = loc0["kappa"]
     k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
     report = {
@@ -324,7 +351,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                          "delta_bic": best["delta_bic"], "p_validation": best["p_validation"]})
         current, r_cur, k_cur = best["model"], best["r"], best["k"]
         sse_cur = best["sse"]
-        loc_cur = _mismatch(L.locate(rec, r_cur, blocks, scales, alpha, flags),
+        loc_cur = _mismatch(L.locate(rec, r_cur, blocks, scales, alpha, flags, keep),
                             _val_rmse(r_cur, val) <= AT_FLOOR * floor)
 
     located = [_region_summary(x) for x in loc0["located"]]

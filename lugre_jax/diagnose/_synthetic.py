@@ -18,7 +18,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..friction import LuGre
-from ..io._recording import Recording, recording_from_arrays
+from ..io import Recording, recording_from_arrays
 from . import _physics as ph
 from ._model import JointModel, Kinematics, predict
 

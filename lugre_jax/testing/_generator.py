@@ -62,13 +62,19 @@ class VelocityPI:
 class Sensors:
     """Sampling and measurement noise: ``fs`` [Hz]; torque noise std [N*m]; velocity noise std
     [deg/s]; position quantisation step [deg] (0: none); ``velocity_column`` False leaves the
-    velocity out (the recording then carries the quantised position's central difference)."""
+    velocity out (a position-only encoder), ``position_column`` False the position (a tachometer
+    only); the recording then derives the missing one."""
 
     fs: float = 200.0
     torque_noise: float = 0.08
     velocity_noise: float = 0.003
     quantisation: float = 0.0005
     velocity_column: bool = True
+    position_column: bool = True
+
+    def __post_init__(self):
+        if not (self.velocity_column or self.position_column):
+            raise ValueError("Sensors: at least one of velocity_column and position_column must be True")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -311,7 +317,7 @@ class GeneratedRecording:
     signals and the settings that made them. Units: s, deg, deg/s, N*m."""
 
     time: np.ndarray
-    position: np.ndarray
+    position: np.ndarray | None
     velocity: np.ndarray | None
     torque: np.ndarray
     velocity_ref: np.ndarray
@@ -321,7 +327,9 @@ class GeneratedRecording:
     def columns(self) -> dict:
         """CSV columns in the project's recording format (``time_s, position_deg, ...``); without a
         velocity sensor there is no ``velocity_deg_s`` column."""
-        c = {"time_s": self.time, "position_deg": self.position}
+        c = {"time_s": self.time}
+        if self.position is not None:
+            c["position_deg"] = self.position
         if self.velocity is not None:
             c["velocity_deg_s"] = self.velocity
         return c | {"torque_nm": self.torque, "velocity_ref_deg_s": self.velocity_ref}
@@ -455,6 +463,8 @@ def generate(excitation: Excitation | None = None, effects=(), plant: Plant | No
     pos = Y[:, 0]
     if sens.quantisation > 0:
         pos = sens.quantisation * np.round(pos / sens.quantisation)
+    if not sens.position_column:
+        pos = None
     eff_torque = u - plant.J * acc - _plain_friction(plant, rhs, ts, Y)
     settings = {"excitation": exc.id, "excitation_params": dataclasses.asdict(exc),
                 "effects": [e.id for e in effects], "effect_params": [dataclasses.asdict(e) for e in effects],
