@@ -45,14 +45,19 @@ def main():
                   f"`none` in {none}/{len(null)} ({100 * none / len(null):.0f} %); baseline validation RMSE / "
                   f"estimated noise floor: median {np.median(ratios):.3f}, max {ratios.max():.3f}; "
                   f"within 10 %: {int(np.sum(ratios <= 1.1))}/{len(null)}", "",
-                  "| key | plant | excitation | fs | torque noise | vel. noise | quant. | vel. column | n | "
-                  "conditioning | floor est. | ratio | verdict | s |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "| key | plant | excitation | fs | torque noise | vel. noise | quant. | measured | n | "
+                  "conditioning | unresolved | torque noise est. | kinematic noise est. | floor est. | ratio | verdict | s |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sorted(null, key=lambda r: r["key"]):
             c = r["conditioning"]
+            measured = "+".join(k for k, on in (("pos", r.get("position_column", True)),
+                                                ("vel", r["velocity_column"])) if on)
+            tn = c["torque_noise"]
+            eiv = float(np.sqrt(max(r["noise_floor"] ** 2 - tn ** 2, 0.0)))
             lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {r['torque_noise']} | "
-                         f"{r['velocity_noise']} | {r['quantisation']} | {'yes' if r['velocity_column'] else 'no'} | "
-                         f"{r['n_samples']} | {c['source']} W={c['window']} | {r['noise_floor']:.4f} | "
+                         f"{r['velocity_noise']} | {r['quantisation']} | {measured} | "
+                         f"{r['n_samples']} | {c['source']} W={c['window']} | {c.get('unresolved_fraction', 0.0):.3f} | "
+                         f"{tn:.4f} | {eiv:.4f} | {r['noise_floor']:.4f} | "
                          f"{r['floor_ratio']:.3f} | {r['verdict']} | {r['seconds_diagnose']:.0f} |")
         lines.append("")
         import matplotlib

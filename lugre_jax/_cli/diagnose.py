@@ -18,7 +18,7 @@ def add_parser(subparsers) -> None:
             "structure with a Holm-controlled false-alarm rate, and name missing physics from a "
             "library (position_ripple, gravity, asymmetry, thermal_drift, stribeck_shape, backlash, "
             "compliance, load_dependent). REC is a CSV in paper units (time_s, position_deg, "
-            "velocity_deg_s, torque_nm, ...) or the EMPS benchmark DATA_EMPS.mat (SI units: m, N)."),
+            "velocity_deg_s, torque_nm, ...; one of position_deg and velocity_deg_s may be absent) or the EMPS benchmark DATA_EMPS.mat (SI units: m, N)."),
     )
     p.add_argument("recording", help="recording CSV, or DATA_EMPS.mat")
     p.add_argument("--params", metavar="P.json",

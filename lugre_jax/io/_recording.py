@@ -198,8 +198,8 @@ def load_recording(path: str | os.PathLike, cutoff_hz: float | None = None) -> R
     try:
         header = next(reader)
     except StopIteration:
-        raise ValueError(f"{path}: line 1: empty file; expected a header line "
-                         f"'{','.join(REQUIRED_COLUMNS)}'") from None
+        raise ValueError(f"{path}: line 1: empty file; expected a header line such as "
+                         f"'time_s,position_deg,velocity_deg_s,torque_nm'") from None
     header = [h.strip() for h in header]
     check_delimiter(path, 1, text.splitlines()[0])
     check_unique_columns(path, 1, header)
