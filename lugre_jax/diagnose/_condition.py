@@ -135,7 +135,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     common = dict(torque_noise=st, velocity_noise=sv, position_noise=float(sp), quantisation=q,
                   accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
     if W == windows[0] and source == "velocity" and q == 0:
-        bad = unresolved_transients(rec.velocity, sv) | _unresolved_path(rec.velocity, sig_v, W, pos_meas)
+        bad = unresolved_transients(rec.velocity, sv)
         info = Conditioning(source="recording", window=1, accel_noise_torque=float(J0 * sig_a),
                             velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
         return rec, info, bad
@@ -152,7 +152,6 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     bad = maximum_filter1d((bias_nm > RESOLVED_BIAS_SHARE * st).astype(np.int8), W) > 0
     if vel_meas:
         bad |= unresolved_transients(rec.velocity, sv)
-    bad |= _unresolved_path(v, sig_v, W, pos_meas)
     if source == "position" and q > 0:
         # a quantised position resolves speeds above one step per window only: below that even the
         # direction of motion is not known from the samples, so neither is the friction
@@ -162,18 +161,6 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     info = Conditioning(source=source, window=int(W), accel_noise_torque=float(J0 * sig_a),
                         velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
     return out, info, bad
-
-
-def _unresolved_path(v, sig_v: float, W: int, position_measured: bool) -> np.ndarray:
-    """Without a position sensor the bristle path is the integral of the measured velocity: while
-    the joint creeps or sticks, slower than three noise std of the conditioned velocity, that
-    integral is mostly integrated noise, and the pre-sliding friction it sets is not known."""
-    from scipy.ndimage import maximum_filter1d
-
-    v = np.asarray(v, float)
-    if position_measured or sig_v <= 0:
-        return np.zeros(v.shape, bool)
-    return maximum_filter1d((np.abs(v) < 3.0 * sig_v).astype(np.int8), max(W, 1)) > 0
 
 
 def conditioned_kinematics(t, position, velocity, source: str, W: int):
