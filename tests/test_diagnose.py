@@ -49,25 +49,25 @@ RIVALS = {
 def test_candidate_named_first_and_recovered(effect):
     rec, truth = make_recording(seed=3, effect=effect, strength=STRENGTH, duration=DURATION)
     rep = diagnose(rec, progress=False, max_effects=1, candidates=RIVALS[effect] + [effect])
-    assert rep["mismatch"], f"{effect}: nothing located"
-    assert rep["missing_physics"], f"{effect}: nothing named"
-    first = rep["missing_physics"][0]
-    assert first["name"] == effect, (effect, rep["verdict"], rep["selection_log"])
+    assert rep.mismatch, f"{effect}: nothing located"
+    assert rep.missing_physics, f"{effect}: nothing named"
+    first = rep.missing_physics[0]
+    assert first.name == effect, (effect, rep.verdict, rep.selection_log)
     eff = effect_instance(effect, STRENGTH)
     for key, true_of, tol in CHECKS[effect]:
-        got, true = first["params"][key], true_of(eff)
+        got, true = first.params[key], true_of(eff)
         assert abs(got - true) <= tol * abs(true), (effect, key, got, true)
-    assert rep["improved"]["validation_rmse_nm"] < rep["baseline"]["validation_rmse_nm"]
+    assert rep.improved.validation_rmse_nm < rep.baseline.validation_rmse_nm
 
 
 @pytest.mark.parametrize("seed", [101, 102])
 def test_null_recording_gives_none(seed):
     rec, _ = make_recording(seed=seed, effect=None, duration=DURATION)
     rep = diagnose(rec, progress=False)
-    assert rep["verdict"] == "none", rep["mismatch"]
-    assert rep["missing_physics"] == []
+    assert rep.verdict == "none", rep.mismatch
+    assert rep.missing_physics == ()
     # the fitted baseline is the truth within noise: validation RMSE within 5% of the noise std
-    assert abs(rep["baseline"]["validation_rmse_nm"] / 0.05 - 1) < 0.05
+    assert abs(rep.baseline.validation_rmse_nm / 0.05 - 1) < 0.05
 
 
 def test_holm_matches_hand_computation():
