@@ -365,7 +365,8 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         verdict += "+unexplained"
     improved = Improved(
         params={**M.model_params(current),
-                **{c.id: c.describe(_ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev)) for c in current.candidates}},
+                **{c.id: c.describe(_ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev))
+                   for c in current.candidates}},
         rmse_nm=float(np.sqrt(np.mean(r_cur[~val] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur)
