@@ -49,25 +49,86 @@ RIVALS = {
 def test_candidate_named_first_and_recovered(effect):
     rec, truth = make_recording(seed=3, effect=effect, strength=STRENGTH, duration=DURATION)
     rep = diagnose(rec, progress=False, max_effects=1, candidates=RIVALS[effect] + [effect])
-    assert rep["mismatch"], f"{effect}: nothing located"
-    assert rep["missing_physics"], f"{effect}: nothing named"
-    first = rep["missing_physics"][0]
-    assert first["name"] == effect, (effect, rep["verdict"], rep["selection_log"])
+    assert rep.mismatch, f"{effect}: nothing located"
+    assert rep.missing_physics, f"{effect}: nothing named"
+    first = rep.missing_physics[0]
+    assert first.name == effect, (effect, rep.verdict, rep.selection_log)
     eff = effect_instance(effect, STRENGTH)
     for key, true_of, tol in CHECKS[effect]:
-        got, true = first["params"][key], true_of(eff)
+        got, true = first.params[key], true_of(eff)
         assert abs(got - true) <= tol * abs(true), (effect, key, got, true)
-    assert rep["improved"]["validation_rmse_nm"] < rep["baseline"]["validation_rmse_nm"]
+    assert rep.improved.validation_rmse_nm < rep.baseline.validation_rmse_nm
 
 
 @pytest.mark.parametrize("seed", [101, 102])
 def test_null_recording_gives_none(seed):
     rec, _ = make_recording(seed=seed, effect=None, duration=DURATION)
     rep = diagnose(rec, progress=False)
-    assert rep["verdict"] == "none", rep["mismatch"]
-    assert rep["missing_physics"] == []
+    assert rep.verdict == "none", rep.mismatch
+    assert rep.missing_physics == ()
     # the fitted baseline is the truth within noise: validation RMSE within 5% of the noise std
-    assert abs(rep["baseline"]["validation_rmse_nm"] / 0.05 - 1) < 0.05
+    assert abs(rep.baseline.validation_rmse_nm / 0.05 - 1) < 0.05
+
+
+# REPORT.json as `lugre-jax diagnose` wrote it while diagnose returned a dict; Diagnosis.to_json()
+# keeps it: these keys in this order, a region being a located test cut to REGION_KEYS.
+REPORT_KEYS = ["recording", "baseline", "alpha", "kappa_long_run_variance", "verdict", "mismatch", "n_tests",
+               "missing_physics", "improved", "selection_log", "seconds"]
+RECORDING_KEYS = ["source", "n_samples", "units", "duration", "sample_rate_hz", "validation"]
+BASELINE_KEYS = ["params", "rmse_nm", "validation_rmse_nm", "fit", "noise_floor_nm", "torque_noise_nm",
+                 "kinematic_noise_nm", "floor_ratio", "at_floor", "shortcoming", "conditioning",
+                 "unresolved_transient_fraction"]
+REGION_KEYS = ("test", "region", "statistic", "p_value", "p_holm", "mean_residual", "ci95", "df", "n")
+FINDING_KEYS = ["name", "explanation", "params", "validation_rmse_nm", "delta_bic", "p_validation"]
+IMPROVED_KEYS = ["params", "rmse_nm", "validation_rmse_nm"]
+
+
+def test_diagnosis_to_json_is_the_report(tmp_path):
+    """Two effects, one of them offered: an accepted finding, an unexplained one, binned and
+    spectral regions and two selection steps all reach the JSON; each part is its attributes, the
+    regions are the locator's own entries, and the written file reads back equal and as --params."""
+    from lugre_jax import testing as T
+    from lugre_jax.diagnose import Diagnosis, Finding, Region
+    from lugre_jax.io import load_params_json, read_json, write_json
+
+    exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
+    g = T.generate(exc, [T.PositionRipple(0.12, 5.0, 1.0), T.Asymmetry(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
+    rep = diagnose(g.to_recording(), progress=False, candidates=["position_ripple", "gravity"])
+    assert isinstance(rep, Diagnosis)
+    assert rep.verdict == "position_ripple+unexplained", rep.selection_log
+    js = rep.to_json()
+    assert list(js) == REPORT_KEYS
+    assert js["recording"] == {k: getattr(rep.recording, k) for k in RECORDING_KEYS}
+    assert list(js["recording"]) == RECORDING_KEYS
+    assert js["baseline"] == {k: getattr(rep.baseline, k) for k in BASELINE_KEYS}
+    assert list(js["baseline"]) == BASELINE_KEYS
+    assert js["improved"] == {k: getattr(rep.improved, k) for k in IMPROVED_KEYS}
+    assert list(js["improved"]) == IMPROVED_KEYS
+    for k in ("alpha", "kappa_long_run_variance", "verdict", "n_tests", "selection_log", "seconds"):
+        assert js[k] == getattr(rep, k), k
+    assert len(js["selection_log"]) == 2
+
+    def cut(x):
+        return {k: x[k] for k in REGION_KEYS if k in x}
+
+    located = rep.arrays.loc0["located"]
+    assert all(isinstance(m, Region) for m in rep.mismatch)
+    assert js["mismatch"] == [cut(x) for x in located]
+    assert [list(m) for m in js["mismatch"]] == [list(cut(x)) for x in located]
+    assert {len(m) for m in js["mismatch"]} == {5, 9}  # spectral/whiteness and binned regions
+    accepted, unexplained = rep.missing_physics
+    assert isinstance(accepted, Finding) and not accepted.unexplained and unexplained.unexplained
+    assert rep.named == ["position_ripple", "unexplained"]
+    assert list(js["missing_physics"][0]) == FINDING_KEYS
+    assert list(js["missing_physics"][1]) == FINDING_KEYS[:4]  # no fit, no evidence
+    assert js["missing_physics"][0]["delta_bic"] == accepted.delta_bic < 0
+    assert js["missing_physics"][1]["params"] == {"regions": [cut(x) for x in rep.arrays.loc1["located"]][:10]}
+    assert "arrays" not in js
+
+    path = tmp_path / "REPORT.json"
+    write_json(path, js)
+    assert read_json(path) == js
+    assert load_params_json(path)["J"] == rep.baseline.params["J"]
 
 
 def test_holm_matches_hand_computation():

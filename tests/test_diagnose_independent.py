@@ -47,11 +47,11 @@ def _short_staircase(seed=0):
 def test_null_independent_recording_gives_none_at_floor():
     g = T.generate(_short_staircase(), (), sensors=T.Sensors(fs=100.0), seed=5)
     rep = diagnose(g.to_recording(), progress=False)
-    b = rep["baseline"]
-    assert rep["verdict"] == "none", rep["mismatch"]
+    b = rep.baseline
+    assert rep.verdict == "none", rep.mismatch
     # the estimated floor is the torque noise (0.08) within 5 %, and the baseline is within 10 % of it
-    assert abs(b["noise_floor_nm"] / 0.08 - 1) < 0.05
-    assert b["floor_ratio"] < 1.10 and b["at_floor"]
+    assert abs(b.noise_floor_nm / 0.08 - 1) < 0.05
+    assert b.floor_ratio < 1.10 and b.at_floor
 
 
 @pytest.mark.parametrize("q", [0.0005, 0.005])
@@ -64,12 +64,12 @@ def test_no_velocity_column_conditions_from_position(q):
     rec = g.to_recording()
     assert rec.meta["velocity_measured"] is False
     rep = diagnose(rec, progress=False)
-    b = rep["baseline"]
-    assert b["conditioning"]["source"] == "position"
-    assert abs(b["torque_noise_nm"] / 0.08 - 1) < 0.05
-    assert b["noise_floor_nm"] >= b["torque_noise_nm"]
-    assert b["floor_ratio"] < 1.10, b
-    assert rep["verdict"] == "none", rep["mismatch"]
+    b = rep.baseline
+    assert b.conditioning["source"] == "position"
+    assert abs(b.torque_noise_nm / 0.08 - 1) < 0.05
+    assert b.noise_floor_nm >= b.torque_noise_nm
+    assert b.floor_ratio < 1.10, b
+    assert rep.verdict == "none", rep.mismatch
 
 
 @pytest.mark.slow
@@ -78,7 +78,7 @@ def test_gravity_not_named_on_small_position_span():
     g = T.generate(T.PositionSine(3.0, 0.4, duration=30.0), [T.Gravity(0.3, 0.5)],
                    sensors=T.Sensors(fs=100.0), seed=2)
     rep = diagnose(g.to_recording(), progress=False, candidates=["gravity", "asymmetry"])
-    assert "gravity" not in [m["name"] for m in rep["missing_physics"]], rep["selection_log"]
+    assert "gravity" not in rep.named, rep.selection_log
 
 
 # each candidate, well above the concealed level, on a short independent staircase of issue #20's
@@ -107,6 +107,6 @@ def test_each_candidate_on_independent_recording(effect):
     exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0 if effect != "gravity" else 12.0, seed=3)
     g = T.generate(exc, effs, sensors=T.Sensors(fs=100.0), seed=9)
     rep = diagnose(g.to_recording(), progress=False, max_effects=1, candidates=RIVALS[effect] + [effect])
-    first = rep["missing_physics"][0] if rep["missing_physics"] else {"name": "none"}
-    assert first["name"] == effect, (effect, rep["verdict"], rep["selection_log"])
-    assert abs(first["params"][key] - true) <= tol * abs(true), (effect, first["params"])
+    assert rep.named[:1] == [effect], (effect, rep.verdict, rep.selection_log)
+    first = rep.missing_physics[0]
+    assert abs(first.params[key] - true) <= tol * abs(true), (effect, first.params)

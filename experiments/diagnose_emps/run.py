@@ -27,7 +27,7 @@ import numpy as np
 
 import lugre_jax  # noqa: F401
 from lugre_jax.diagnose import _model as M
-from lugre_jax.diagnose import diagnose, effect_torques, public_report
+from lugre_jax.diagnose import diagnose, effect_torques
 from lugre_jax.diagnose._select import _all_specs
 from lugre_jax.io import write_csv, write_json
 from lugre_jax.io._emps import EMPS_REFERENCE, default_emps_path, emps_idim_ls, load_emps
@@ -81,14 +81,14 @@ def full_rate(path, out, block_s):
     rec = load_emps(path, decimate=False)
     kin = M.kinematics_of(rec)
     rep = diagnose(rec, block_s=block_s, friction="lugre", fit_offset=True)
-    write_json(out / "report_lugre_offset_1kHz.json", public_report(rep))
-    arr = rep["_arrays"]
+    write_json(out / "report_lugre_offset_1kHz.json", rep.to_json())
+    arr = rep.arrays
     y = rec.torque
-    row = {"verdict": rep["verdict"], "named": [m["name"] for m in rep["missing_physics"]],
-           "missing_physics": [{k: m[k] for k in ("name", "params", "validation_rmse_nm")}
-                               for m in rep["missing_physics"]],
-           "baseline_rel_err_val_pct_1kHz": rel(y, M.predict(arr["baseline_model"], kin), arr["val"]),
-           "improved_rel_err_val_pct_1kHz": rel(y, M.predict(arr["improved_model"], kin), arr["val"])}
+    row = {"verdict": rep.verdict, "named": rep.named,
+           "missing_physics": [{"name": m.name, "params": m.params, "validation_rmse_nm": m.validation_rmse_nm}
+                               for m in rep.missing_physics],
+           "baseline_rel_err_val_pct_1kHz": rel(y, M.predict(arr.baseline_model, kin), arr.val),
+           "improved_rel_err_val_pct_1kHz": rel(y, M.predict(arr.improved_model, kin), arr.val)}
     write_json(out / "summary_1kHz.json", row)
     print(row)
     return 0
@@ -125,18 +125,18 @@ def main():
     for name, cfg in CONFIGS.items():
         print(f"== {name}")
         rep = diagnose(rec, block_s=a.block_s, **cfg)
-        write_json(out / f"report_{name}.json", public_report(rep))
-        arr = rep["_arrays"]
-        val = arr["val"]
-        base, imp = arr["baseline_model"], arr["improved_model"]
+        write_json(out / f"report_{name}.json", rep.to_json())
+        arr = rep.arrays
+        val = arr.val
+        base, imp = arr.baseline_model, arr.improved_model
         yb, yi = M.predict(base, kin), M.predict(imp, kin)
         base_all, _ = refit_all(base, rec, kin, cfg["fit_offset"])
         imp_all, _ = refit_all(imp, rec, kin, cfg["fit_offset"])
         row = {
-            "baseline": name, "verdict": rep["verdict"],
-            "named": [m["name"] for m in rep["missing_physics"]],
-            "baseline_val_rmse_N": rep["baseline"]["validation_rmse_nm"],
-            "improved_val_rmse_N": rep["improved"]["validation_rmse_nm"],
+            "baseline": name, "verdict": rep.verdict,
+            "named": rep.named,
+            "baseline_val_rmse_N": rep.baseline.validation_rmse_nm,
+            "improved_val_rmse_N": rep.improved.validation_rmse_nm,
             "baseline_rel_err_val_pct": rel(y, yb, val), "improved_rel_err_val_pct": rel(y, yi, val),
             "baseline_rel_err_fit_all_pct": rel(y, M.predict(base_all, kin)),
             "improved_rel_err_fit_all_pct": rel(y, M.predict(imp_all, kin)),

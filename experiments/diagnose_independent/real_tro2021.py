@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 import lugre_jax
-from lugre_jax.diagnose import diagnose, plot_report, public_report
+from lugre_jax.diagnose import diagnose, plot_report
 from lugre_jax.io import load_epos_file, recording_from_arrays, write_json
 
 lugre_jax.configure()
@@ -76,12 +76,12 @@ def main():
         folder = root / drive / "steady_state" / "0.096kg"
         rec, names = chained(folder)
         rep = diagnose(rec, friction="stribeck", fit_offset=True, progress=False, block_s=25.6)
-        write_json(out / f"report_{drive}.json", public_report(rep))
+        write_json(out / f"report_{drive}.json", rep.to_json())
         plot_report(rep, rec, out / drive)
-        b = rep["baseline"]
-        print(f"{drive}: {rec.n} samples from {len(names)} runs; verdict {rep['verdict']}; baseline validation "
-              f"RMSE {b['validation_rmse_nm']:.4g} N*m (floor {b['noise_floor_nm']:.4g}, ratio {b['floor_ratio']:.3g}) "
-              f"-> {rep['improved']['validation_rmse_nm']:.4g}")
+        b = rep.baseline
+        print(f"{drive}: {rec.n} samples from {len(names)} runs; verdict {rep.verdict}; baseline validation "
+              f"RMSE {b.validation_rmse_nm:.4g} N*m (floor {b.noise_floor_nm:.4g}, ratio {b.floor_ratio:.3g}) "
+              f"-> {rep.improved.validation_rmse_nm:.4g}")
     return 0
 
 

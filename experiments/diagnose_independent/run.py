@@ -147,20 +147,20 @@ def run_one(job, top_k):
     rec = g.to_recording()
     t0 = time.time()
     rep = diagnose(rec, progress=False, top_k=top_k)
-    b = rep["baseline"]
-    named = [m["name"] for m in rep["missing_physics"]]
+    b = rep.baseline
+    named = rep.named
     truth = sorted(e.id for e in effs)
-    row = {**job, "n_samples": rec.n, "verdict": rep["verdict"], "named": named,
+    row = {**job, "n_samples": rec.n, "verdict": rep.verdict, "named": named,
            "true_effects": truth, "true_peak_nm": float(np.max(np.abs(g.true["effect_torque"]))),
            "true_rms_nm": float(np.sqrt(np.mean(g.true["effect_torque"] ** 2))),
-           "baseline_val_rmse": b["validation_rmse_nm"], "noise_floor": b["noise_floor_nm"],
-           "floor_ratio": b["floor_ratio"], "conditioning": b["conditioning"],
-           "baseline_params": b["params"], "improved_val_rmse": rep["improved"]["validation_rmse_nm"],
-           "n_located": len(rep["mismatch"]), "seconds_diagnose": time.time() - t0, "seconds_generate": t_gen,
+           "baseline_val_rmse": b.validation_rmse_nm, "noise_floor": b.noise_floor_nm,
+           "floor_ratio": b.floor_ratio, "conditioning": b.conditioning,
+           "baseline_params": b.params, "improved_val_rmse": rep.improved.validation_rmse_nm,
+           "n_located": len(rep.mismatch), "seconds_diagnose": time.time() - t0, "seconds_generate": t_gen,
            "true_params": [e.__dict__ | {"id": e.id} for e in effs],
-           "fitted": {m["name"]: m["params"] for m in rep["missing_physics"]},
-           "located": [{"test": m["test"], "region": m["region"], "p_holm": m.get("p_holm")} for m in rep["mismatch"]][:5],
-           "selection_log": rep["selection_log"]}
+           "fitted": {m.name: m.params for m in rep.missing_physics},
+           "located": [{"test": m.test, "region": m.region, "p_holm": m.p_holm} for m in rep.mismatch][:5],
+           "selection_log": rep.selection_log}
     row["correct"] = sorted(n for n in named if n != "unexplained") == truth and "unexplained" not in named
     return row
 

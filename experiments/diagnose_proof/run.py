@@ -63,22 +63,22 @@ def one(effect, strength, seed, duration):
     rec, truth = make_recording(seed, None if effect == "none" else effect, strength, duration=duration)
     t0 = time.time()
     rep = diagnose(rec, progress=False)
-    row = {"effect": effect, "strength": strength, "seed": seed, "verdict": rep["verdict"],
-           "named": [m["name"] for m in rep["missing_physics"]],
-           "baseline_val_rmse": rep["baseline"]["validation_rmse_nm"],
-           "improved_val_rmse": rep["improved"]["validation_rmse_nm"],
-           "n_located": len(rep["mismatch"]), "seconds": time.time() - t0,
+    row = {"effect": effect, "strength": strength, "seed": seed, "verdict": rep.verdict,
+           "named": rep.named,
+           "baseline_val_rmse": rep.baseline.validation_rmse_nm,
+           "improved_val_rmse": rep.improved.validation_rmse_nm,
+           "n_located": len(rep.mismatch), "seconds": time.time() - t0,
            "true_peak": truth["effect_peak"], "true_rms": truth["effect_rms"],
            "noise_std": truth["noise_std"]}
     row["named_first"] = row["named"][0] if row["named"] else "none"
     if effect != "none":
         eff = effect_instance(effect, strength)
         row["true_params"] = {k: float(getattr(eff, a)) for k, a in KEY_PARAMS[effect].items()}
-        hit = [m for m in rep["missing_physics"] if m["name"] == effect]
+        hit = [m for m in rep.missing_physics if m.name == effect]
         if hit:
-            row["fitted_params"] = {k: hit[0]["params"].get(k) for k in KEY_PARAMS[effect]}
-            model = rep["_arrays"]["improved_model"]
-            e = effect_torques(model, rep["_arrays"]["kin"])[effect]
+            row["fitted_params"] = {k: hit[0].params.get(k) for k in KEY_PARAMS[effect]}
+            model = rep.arrays.improved_model
+            e = effect_torques(model, rep.arrays.kin)[effect]
             row["fitted_peak"] = float(np.max(np.abs(e)))
             row["fitted_rms"] = float(np.sqrt(np.mean(e ** 2)))
             row["corr_with_true_effect"] = float(np.corrcoef(e, truth["effect_torque"])[0, 1])

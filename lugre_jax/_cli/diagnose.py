@@ -50,7 +50,7 @@ def _load(path: str):
 def run(args) -> int:
     import math
 
-    from ..diagnose import diagnose, plot_report, public_report
+    from ..diagnose import diagnose, plot_report
     from ..diagnose import CANDIDATES
     from ..io import load_params_json, write_json
     from ._outputs import Outputs
@@ -70,18 +70,17 @@ def run(args) -> int:
             _check_params_against(params, rec, args.params)
         rep = diagnose(rec, params=params, friction=args.friction, fit_offset=args.offset,
                        alpha=args.alpha, candidates=cands, progress=not args.quiet, block_s=args.block_s)
-        for key in ("baseline", "improved"):
-            v = rep[key]["validation_rmse_nm"]
+        for key, part in (("baseline", rep.baseline), ("improved", rep.improved)):
+            v = part.validation_rmse_nm
             if not math.isfinite(v):
                 raise ValueError(f"{args.params or args.recording}: the {key} model's validation RMSE is {v}; "
                                  "expected a finite error (are the parameters in the recording's units?)")
-        write_json(out_path, public_report(rep))
+        write_json(out_path, rep.to_json())
         if plots_dir is not None:
             plot_report(rep, rec, plots_dir)
-    names = [m["name"] for m in rep["missing_physics"]]
-    print(f"verdict: {rep['verdict']}; baseline validation RMSE {rep['baseline']['validation_rmse_nm']:.5g} "
-          f"-> {rep['improved']['validation_rmse_nm']:.5g} {rec.units['torque']}; "
-          f"missing physics: {names or 'none'}; report: {args.out}")
+    print(f"verdict: {rep.verdict}; baseline validation RMSE {rep.baseline.validation_rmse_nm:.5g} "
+          f"-> {rep.improved.validation_rmse_nm:.5g} {rec.units['torque']}; "
+          f"missing physics: {rep.named or 'none'}; report: {args.out}")
     return 0
 
 

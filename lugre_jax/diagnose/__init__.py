@@ -2,7 +2,8 @@
 
 Inverse LuGre joint model of Li et al. (Electronics 2020, 9, 284), fitted by Levenberg-Marquardt;
 residual tests with Holm-controlled false-alarm rate; a library of candidate physics selected by
-validation error and BIC. Entry point: :func:`diagnose`.
+validation error and BIC. Entry point: :func:`diagnose`, which returns a :class:`Diagnosis`
+(``to_json()`` is REPORT.json).
 """
 
 from ._locate import holm as holm, locate as locate
@@ -28,5 +29,14 @@ from ._physics import (
     ThermalDrift as ThermalDrift,
 )
 from ._plots import effect_torques as effect_torques, plot_report as plot_report
-from ._select import diagnose as diagnose, public_report as public_report
+from ._report import (
+    Baseline as Baseline,
+    Diagnosis as Diagnosis,
+    DiagnosisArrays as DiagnosisArrays,
+    Finding as Finding,
+    Improved as Improved,
+    RecordingInfo as RecordingInfo,
+    Region as Region,
+)
+from ._select import diagnose as diagnose
 from ._synthetic import effect_instance as effect_instance, make_recording as make_recording

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..io import save_figure
 from . import _model as M
+from ._report import Diagnosis
 
 
 def _binned(x, r, edges):
@@ -52,16 +53,20 @@ def effect_torques(model: M.JointModel, kin) -> dict[str, np.ndarray]:
     return out
 
 
-def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
+def plot_report(report: Diagnosis, rec, outdir: str | os.PathLike) -> list[str]:
+    """Write the diagnosis figures (PNG) into ``outdir``; returns their paths. ``rec`` is used only
+    when ``report.arrays`` lacks the conditioned recording."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     outdir = Path(outdir)
-    arr = report["_arrays"]
-    rec = arr.get("rec", rec)  # the conditioned kinematics the residuals belong to
-    r0, r1 = np.asarray(arr["r0"]), np.asarray(arr["r1"])
+    arr = report.arrays
+    if arr is None:
+        raise ValueError("plot_report needs the arrays diagnose() keeps in its result (Diagnosis.arrays is None)")
+    rec = arr.rec if arr.rec is not None else rec  # the conditioned kinematics the residuals belong to
+    r0, r1 = np.asarray(arr.r0), np.asarray(arr.r1)
     t, v, th = rec.time, rec.velocity, rec.position
     u = rec.units
     written = []
@@ -75,7 +80,7 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
         ax.axhline(0, color="k", lw=0.5)
         ax.set_ylabel(f"residual [{u['torque']}]")
         ax.set_title(f"{lab}: residual vs time (validation RMSE "
-                     f"{report['baseline' if r is r0 else 'improved']['validation_rmse_nm']:.4g})")
+                     f"{(report.baseline if r is r0 else report.improved).validation_rmse_nm:.4g})")
         ax.legend(loc="upper right", fontsize=8)
     axs[1].set_xlabel(f"time [{u['time']}]")
     save_figure(fig, outdir / "residual_time.png")
@@ -102,8 +107,8 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
     save_figure(fig, outdir / "residual_velocity_position.png")
     written.append(str(outdir / "residual_velocity_position.png"))
 
-    pp = arr["loc0"]["position_periodogram"]
-    tp = arr["loc0"]["time_periodogram"]
+    pp = arr.loc0["position_periodogram"]
+    tp = arr.loc0["time_periodogram"]
     fig, axs = plt.subplots(1, 2, figsize=(11, 3.5))
     axs[0].semilogx(1 / pp["freqs"], pp["z"], lw=0.7)
     axs[0].set_xlabel(f"period [{u['position']}]")
@@ -116,9 +121,9 @@ def plot_report(report: dict, rec, outdir: str | os.PathLike) -> list[str]:
     save_figure(fig, outdir / "residual_periodograms.png")
     written.append(str(outdir / "residual_periodograms.png"))
 
-    model = arr["improved_model"]
+    model = arr.improved_model
     if model.candidates:
-        kin = arr["kin"]
+        kin = arr.kin
         eff = effect_torques(model, kin)
         for c in model.candidates:
             e = eff[c.id]

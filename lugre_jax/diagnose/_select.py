@@ -33,6 +33,7 @@ from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
 from ._physics import CANDIDATES
+from ._report import Baseline, Diagnosis, DiagnosisArrays, Finding, Improved, RecordingInfo, Region
 
 
 def _ctx(rec, model, kin, r, loc, scales, n_rev, extra=None):
@@ -179,8 +180,9 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
 
 def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offset: bool = False,
              alpha: float = 0.05, top_k: int | None = 4, max_effects: int = 3, candidates=None,
-             progress: bool = True, block_s: float | None = None, max_steps: int = 80) -> dict:
-    """Diagnose a :class:`~lugre_jax.io.Recording`; returns a dict (REPORT.json content + arrays).
+             progress: bool = True, block_s: float | None = None, max_steps: int = 80) -> Diagnosis:
+    """Diagnose a :class:`~lugre_jax.io.Recording`; returns a :class:`~._report.Diagnosis`
+    (``to_json()``: the REPORT.json content; ``arrays``: residuals, models and tests behind it).
 
     ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format).
     ``friction``: baseline friction law, ``lugre`` (default), ``stribeck`` or ``coulomb_viscous``.
@@ -189,11 +191,11 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     Before fitting, the kinematics are conditioned from the data (:func:`._condition.condition`:
     velocity column or position, Savitzky-Golay window from the estimated noise and bias; bristles
     driven along the position path) and samples inside unresolved sharp transients are left out.
-    The report's ``baseline`` adds ``noise_floor_nm`` (per-sample noise estimated from the data),
-    ``floor_ratio`` (validation RMSE / floor), ``at_floor`` (ratio <= 1.1), ``shortcoming``,
-    ``torque_noise_nm`` and ``kinematic_noise_nm`` (its two parts: the floor of an inverse model
-    includes the noise the conditioned velocity and acceleration carry), ``conditioning`` and
-    ``unresolved_transient_fraction``; each joint refit in ``selection_log``
+    The result's ``baseline`` (:class:`~._report.Baseline`) has ``noise_floor_nm`` (per-sample
+    noise estimated from the data), ``floor_ratio`` (validation RMSE / floor), ``at_floor`` (ratio
+    <= 1.1), ``shortcoming``, ``torque_noise_nm`` and ``kinematic_noise_nm`` (its two parts: the
+    floor of an inverse model includes the noise the conditioned velocity and acceleration carry),
+    ``conditioning`` and ``unresolved_transient_fraction``; each joint refit in ``selection_log``
     adds ``identifiability_z`` and ``rejected_because`` (a candidate is named only if plausible and
     identifiable on the recording, see docs/diagnosis.md).
     """
@@ -253,24 +255,19 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     loc0 = _mismatch(L.locate(rec, r0, blocks, scales, alpha, flags, keep), ratio <= AT_FLOOR)
     kappa = loc0["kappa"]
     k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
-    report = {
-        "recording": {"source": rec.source, "n_samples": rec.n, "units": rec.units,
-                      "duration": scales["D"], "sample_rate_hz": scales["fs"],
-                      "validation": "every 5th time block of ~%.3g %s held out (%d of %d samples)"
-                                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
-                                       rec.units["time"], int(val.sum()), rec.n)},
-        "baseline": {"params": M.model_params(base), "rmse_nm": float(np.sqrt(np.mean(r0[w > 0] ** 2))),
-                     "validation_rmse_nm": _val_rmse(r0, val), "fit": info,
-                     "noise_floor_nm": floor, "torque_noise_nm": cond.torque_noise,
-                     "kinematic_noise_nm": kin_noise, "floor_ratio": ratio,
-                     "at_floor": bool(ratio <= AT_FLOOR),
-                     "shortcoming": None if ratio <= AT_FLOOR else (
-                         f"the baseline's validation RMSE is {ratio:.3g}x the estimated noise floor: located "
-                         "structure may be the baseline's own misfit, not missing physics"),
-                     "conditioning": cond.to_json(),
-                     "unresolved_transient_fraction": float(unresolved.mean())},
-        "alpha": alpha, "kappa_long_run_variance": kappa,
-    }
+    recording = RecordingInfo(
+        source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
+        validation="every 5th time block of ~%.3g %s held out (%d of %d samples)"
+                   % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
+                      rec.units["time"], int(val.sum()), rec.n))
+    baseline = Baseline(
+        params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
+        validation_rmse_nm=_val_rmse(r0, val), fit=info, noise_floor_nm=floor, torque_noise_nm=cond.torque_noise,
+        kinematic_noise_nm=kin_noise, floor_ratio=ratio, at_floor=bool(ratio <= AT_FLOOR),
+        shortcoming=None if ratio <= AT_FLOOR else (
+            f"the baseline's validation RMSE is {ratio:.3g}x the estimated noise floor: located "
+            "structure may be the baseline's own misfit, not missing physics"),
+        conditioning=cond.to_json(), unresolved_transient_fraction=float(unresolved.mean()))
     cext = {"position_resolution": max(cond.quantisation, cond.position_noise),
             "accel_bandwidth_hz": _sg_bandwidth(cond.window, scales["fs"]) if cond.source != "recording"
             else 0.25 * scales["fs"]}
@@ -281,7 +278,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     while loc_cur["located"] and len(accepted) < max_effects:
         ctx = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev, cext)
         scored = []
-        names = [n for n in pool if n not in [a["name"] for a in accepted]]
+        names = [n for n in pool if n not in [a.name for a in accepted]]
         it = tqdm(names, desc=f"score candidates (step {len(accepted) + 1})", disable=not progress, leave=False)
         for name in it:
             proto = pool[name]
@@ -345,54 +342,43 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             break
         best = min(ok, key=lambda t: t["delta_bic"])
         cand = best["model"].candidates[-1]
-        accepted.append({"name": best["name"], "explanation": type(cand).explanation,
-                         "params": cand.describe(ctx | {"baseline": best["model"]}),
-                         "validation_rmse_nm": best["validation_rmse_nm"],
-                         "delta_bic": best["delta_bic"], "p_validation": best["p_validation"]})
+        accepted.append(Finding(name=best["name"], explanation=type(cand).explanation,
+                                params=cand.describe(ctx | {"baseline": best["model"]}),
+                                validation_rmse_nm=best["validation_rmse_nm"],
+                                delta_bic=best["delta_bic"], p_validation=best["p_validation"]))
         current, r_cur, k_cur = best["model"], best["r"], best["k"]
         sse_cur = best["sse"]
         loc_cur = _mismatch(L.locate(rec, r_cur, blocks, scales, alpha, flags, keep),
                             _val_rmse(r_cur, val) <= AT_FLOOR * floor)
 
-    located = [_region_summary(x) for x in loc0["located"]]
-    remaining = [_region_summary(x) for x in loc_cur["located"]] if accepted else located
+    located = tuple(Region.from_test(x) for x in loc0["located"])
+    remaining = tuple(Region.from_test(x) for x in loc_cur["located"]) if accepted else located
     missing = list(accepted)
     if remaining:
-        missing.append({"name": "unexplained",
-                        "explanation": "Residual structure remains where listed, and no candidate in the "
-                                       "library explains it with a validated improvement.",
-                        "params": {"regions": remaining[:10]},
-                        "validation_rmse_nm": _val_rmse(r_cur, val)})
-    verdict = "none" if not located else ("+".join(a["name"] for a in accepted) if accepted else "unexplained")
+        missing.append(Finding(name="unexplained",
+                               explanation="Residual structure remains where listed, and no candidate in the "
+                                           "library explains it with a validated improvement.",
+                               params={"regions": [x.to_json() for x in remaining[:10]]},
+                               validation_rmse_nm=_val_rmse(r_cur, val)))
+    verdict = "none" if not located else ("+".join(a.name for a in accepted) if accepted else "unexplained")
     if accepted and remaining:
         verdict += "+unexplained"
-    report.update({
-        "verdict": verdict,
-        "mismatch": located,
-        "n_tests": loc0["n_tests"],
-        "missing_physics": missing,
-        "improved": {"params": {**M.model_params(current),
-                                **{c.id: c.describe(_ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev))
-                                   for c in current.candidates}},
-                     "rmse_nm": float(np.sqrt(np.mean(r_cur[~val] ** 2))),
-                     "validation_rmse_nm": _val_rmse(r_cur, val)},
-        "selection_log": steps_log,
-        "seconds": time.time() - t_start,
-    })
-    report["_arrays"] = {"rec": rec, "kin": kin, "baseline_model": base, "improved_model": current, "r0": r0,
-                         "r1": r_cur, "val": val, "blocks": blocks, "loc0": loc0, "loc1": loc_cur}
-    return report
+    improved = Improved(
+        params={**M.model_params(current),
+                **{c.id: c.describe(_ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev))
+                   for c in current.candidates}},
+        rmse_nm=float(np.sqrt(np.mean(r_cur[~val] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
+    arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
+                             val=val, blocks=blocks, loc0=loc0, loc1=loc_cur)
+    return Diagnosis(recording=recording, baseline=baseline, alpha=alpha, kappa_long_run_variance=kappa,
+                     verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
+                     improved=improved, selection_log=steps_log, seconds=time.time() - t_start, arrays=arrays)
 
 
 def _sg_bandwidth(W: int, fs: float) -> float:
     """-3 dB frequency [Hz] of the order-3 Savitzky-Golay derivative of window W (Schafer 2011:
     f_c ~ (order + 1)/(3.2 W - 4.6) * fs/2 for the smoother; used as the bandwidth of the acceleration)."""
     return float(4.0 / (3.2 * W - 4.6) * fs / 2)
-
-
-def _region_summary(x):
-    keep = ("test", "region", "statistic", "p_value", "p_holm", "mean_residual", "ci95", "df", "n")
-    return {k: x[k] for k in keep if k in x}
 
 
 class _Proto:
@@ -412,7 +398,3 @@ class _Proto:
             cls._cache[klass] = klass(**kw)
         return cls._cache[klass]
 
-
-def public_report(report: dict) -> dict:
-    """The JSON-serialisable part of a :func:`diagnose` result (drops in-memory arrays/models)."""
-    return {k: v for k, v in report.items() if not k.startswith("_")}
