@@ -110,3 +110,21 @@ def test_each_candidate_on_independent_recording(effect):
     assert rep.named[:1] == [effect], (effect, rep.verdict, rep.selection_log)
     first = rep.missing_physics[0]
     assert abs(first.params[key] - true) <= tol * abs(true), (effect, first.params)
+
+
+def test_nothing_resolved_is_one_clear_error():
+    """A coarse encoder on a joint creeping at one step per second: no sample's speed is resolved, so
+    no baseline can be fitted; the diagnosis says so in one line instead of failing inside the fit."""
+    from lugre_jax.io import recording_from_arrays
+
+    rng = np.random.default_rng(0)
+    t = np.arange(3000) / 100.0
+    q = 0.01
+    v = 0.01 * np.sign(np.sin(2 * np.pi * t / 15.0))
+    th = q * np.round(np.cumsum(v) / 100.0 / q)
+    tau = 1.2 * np.sign(v) + 0.05 * rng.standard_normal(t.size)
+    rec = recording_from_arrays(t, th, None, tau, source="creep.csv")
+    with pytest.raises(ValueError) as e:
+        diagnose(rec, progress=False)
+    msg = str(e.value)
+    assert "\n" not in msg and msg.startswith("creep.csv: only ") and "resolved" in msg

@@ -149,7 +149,13 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     extra["conditioning_bias_nm"] = bias_nm
     from scipy.ndimage import maximum_filter1d
 
-    bad = maximum_filter1d((bias_nm > RESOLVED_BIAS_SHARE * st).astype(np.int8), W) > 0
+    # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
+    # difference is mostly noise, which the floor's errors-in-variables part already counts
+    sig = sv if source == "velocity" else sp
+    hW = savgol_coeffs(W, 3, deriv=1 + (source == "position"), delta=dt)
+    hd = np.pad(hW, (W - 1) // 2) - savgol_coeffs(2 * W - 1, 3, deriv=1 + (source == "position"), delta=dt)
+    significant = np.abs(a - a2) > 3.0 * sig * float(np.linalg.norm(hd))
+    bad = maximum_filter1d(((bias_nm > RESOLVED_BIAS_SHARE * st) & significant).astype(np.int8), W) > 0
     if vel_meas:
         bad |= unresolved_transients(rec.velocity, sv)
     if source == "position" and q > 0:

@@ -45,6 +45,7 @@ def _ctx(rec, model, kin, r, loc, scales, n_rev, extra=None):
             "to_rad": np.pi / 180 if rec.units.get("position") == "deg" else 1.0}
 
 
+MIN_RESOLVED = 100  # resolved training samples a baseline fit needs (about ten parameters)
 AT_FLOOR = 1.1  # validation RMSE / estimated floor at or below which the baseline counts as at its floor
 
 
@@ -232,6 +233,12 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     w = ((~val) & keep).astype(float)
     tau = np.asarray(rec.torque)
     n_train = int(w.sum())
+    if n_train < MIN_RESOLVED or int(val.sum()) < MIN_RESOLVED // 4:
+        raise ValueError(
+            f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
+            f"sampling and noise ({cond.source}, window {cond.window}); expected at least {MIN_RESOLVED} "
+            "for the fit and a quarter of that held out: a slower or smoother excitation, or a velocity "
+            "sensor, is needed")
     since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
 
     # bristle path: the complementary one (conditioned velocity pulled to the position) or, where
