@@ -206,6 +206,8 @@ CASES: list[Case] = [
          lambda d: _diag(d, _dup_torque())),
     Case("rec-renamed-column", "recording: column renamed (torque -> torque_Nm)",
          lambda d: _diag(d, recording_text().replace("torque_nm", "torque_Nm"))),
+    Case("rec-no-kinematics", "recording: neither position_deg nor velocity_deg_s (both renamed)",
+         lambda d: _diag(d, recording_text().replace("position_deg", "pos").replace("velocity_deg_s", "vel"))),
     Case("rec-semicolons", "recording: ';'-separated", lambda d: _diag(d, recording_text().replace(",", ";"))),
     Case("rec-tabs", "recording: tab-separated", lambda d: _diag(d, recording_text().replace(",", "\t"))),
     Case("rec-nan", "recording: NaN cell", lambda d: _diag(d, _rec_edit(lambda ls: _set_cell(ls, 50, 3, "nan")))),
