@@ -83,7 +83,9 @@ def chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_
             eqx.filter(tree, eqx.is_array, inverse=True),
         )
     dyn, static = eqx.partition(tree, eqx.is_array)
-    return jax.tree.map(lambda x: x[:b], fn(dyn, static))
+    out = fn(dyn, static)
+    # drop the padding lanes; without padding no slicing (one dispatch per output leaf per call)
+    return out if total == b else jax.tree.map(lambda x: x[:b], out)
 
 
 _CACHE: dict = {}
