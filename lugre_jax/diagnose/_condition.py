@@ -130,8 +130,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
             # (see docs/diagnosis.md: a window with twice the bias left a located after-reversal mean)
             mse = J0 ** 2 * (4 * bias2 + noise2) + s2_0 ** 2 * sig_v ** 2
             if best is None or mse < best[0]:
-                best = (mse, source, W, sig_v, np.sqrt(noise2))
-    _, source, W, sig_v, sig_a = best
+                best = (mse, source, W, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
+    _, source, W, sig_v, sig_a, a2, sig_d = best
     common = dict(torque_noise=st, velocity_noise=sv, position_noise=float(sp), quantisation=q,
                   accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
     if W == windows[0] and source == "velocity" and q == 0:
@@ -140,8 +140,6 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
                             velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
         return rec, info, bad
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W)
-    x = rec.velocity if source == "velocity" else rec.position
-    a2 = savgol_filter(x, 2 * W - 1, 3, deriv=1 + (source == "position"), delta=dt)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1
     extra = dict(rec.extra)
@@ -151,10 +149,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
 
     # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
     # difference is mostly noise, which the floor's errors-in-variables part already counts
-    sig = sv if source == "velocity" else sp
-    hW = savgol_coeffs(W, 3, deriv=1 + (source == "position"), delta=dt)
-    hd = np.pad(hW, (W - 1) // 2) - savgol_coeffs(2 * W - 1, 3, deriv=1 + (source == "position"), delta=dt)
-    significant = np.abs(a - a2) > 3.0 * sig * float(np.linalg.norm(hd))
+    significant = np.abs(a - a2) > 3.0 * sig_d
     bad = maximum_filter1d(((bias_nm > RESOLVED_BIAS_SHARE * st) & significant).astype(np.int8), W) > 0
     if vel_meas:
         bad |= unresolved_transients(rec.velocity, sv)

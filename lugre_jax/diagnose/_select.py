@@ -58,22 +58,19 @@ def _mismatch(loc: dict, at_floor: bool) -> dict:
     return loc
 
 
-def _eiv_noise(rec_in, rec, cond, model, kin, keep, draws: int = 2) -> float:
+def _eiv_noise(rec_in, cond, model, kin, tau_hat, keep, draws: int = 2) -> float:
     """Per-sample torque noise that the measured velocity and acceleration carry into the inverse
     model: the measured signals are perturbed with fresh noise of the size estimated from the data,
     conditioned the same way, and the model's prediction with them is compared with that on the
-    recording's (rms over the resolved samples, ``draws`` draws): J*a, the friction's slope and the
-    bristles' rate dependence, all through the fitted model."""
+    recording's, ``tau_hat`` (rms over the resolved samples, ``draws`` draws): J*a, the friction's
+    slope and the bristles' rate dependence, all through the fitted model."""
     from ._condition import perturbed_kinematics
 
-    tau_hat = M.predict(model, kin)
     ms = []
     for seed in range(draws):
         v, a = perturbed_kinematics(rec_in, cond, seed)
-        rp = eqx.tree_at(lambda r: (r.velocity, r.acceleration), rec,
-                         (np.asarray(v, float), np.asarray(a, float)))
         # the same bristle path as the fit's
-        kp = eqx.tree_at(lambda k: (k.v, k.a), kin, (jnp.asarray(rp.velocity), jnp.asarray(rp.acceleration)))
+        kp = eqx.tree_at(lambda k: (k.v, k.a), kin, (jnp.asarray(v, float), jnp.asarray(a, float)))
         d = M.predict(model, kp) - tau_hat
         ms.append(float(np.mean(d[keep] ** 2)) if np.any(keep) else 0.0)
     return float(np.sqrt(np.mean(ms)))
@@ -161,10 +158,10 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
         return float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf
 
     screened = []
+    many = len(starts) * len(kins) > 1
     for k, kin in enumerate(kins):
         for s0 in starts:
             s0 = M.clip_into(space, s0)
-            many = len(starts) * len(kins) > 1
             fitted, _ = M.fit(s0, space, kin, tau, weights, max_steps=screen_steps) if many else (s0, {})
             screened.append((sse(fitted, kin), k, fitted))
     screened.sort(key=lambda x: x[0])
@@ -225,7 +222,6 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     if cond.source == "position" and cond.quantisation > 0:
         flags = int(round(0.5 / rec.dt)) + 1
     scales = M.data_scales(rec)
-    scales["noise"] = cond.torque_noise
     blocks = M.block_ids(rec.time, block_s)
     # unresolved transients take no part: not in the fit, the validation or the tests
     keep = ~unresolved
@@ -252,10 +248,11 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     path = list(paths)[k_path]
     kin = paths[path]
     info["bristle_path"] = path
-    r0 = (tau - M.predict(base, kin)) * keep
+    tau_base = M.predict(base, kin)
+    r0 = (tau - tau_base) * keep
     # the floor of an inverse model: the torque noise and what the kinematics' noise brings through
     # the fitted model (errors in variables), both estimated from the data
-    kin_noise = _eiv_noise(rec_in, rec, cond, base, kin, keep)
+    kin_noise = _eiv_noise(rec_in, cond, base, kin, tau_base, keep)
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
     scales["noise"] = floor  # the tests' resolution margins are shares of the per-sample floor
