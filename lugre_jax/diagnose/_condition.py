@@ -109,6 +109,11 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     windows = [w for w in range(5, wmax + 1, 2) if w <= max(5, rec.n // 4)] or [5]
     sources = ([("velocity", sv, 0, rec.velocity)] if vel_meas else []) + \
               ([("position", sp, 1, rec.position)] if pos_meas else [])
+    # sharp transients the sampling cannot resolve leave the fit whatever the window (below), so
+    # the smoothing bias that chooses the window is measured on the other samples only
+    from scipy.ndimage import maximum_filter1d
+
+    sharp = unresolved_transients(rec.velocity, sv) if vel_meas else np.zeros(rec.n, bool)
     best = None
     for source, sig, dv, x in sources:
         for W in windows:
@@ -123,7 +128,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
             # smoothing bias grows with the window (as W^4 for a smooth signal, slower at sharp
             # steps): the bias at W is taken as a third of the change from W to 2W-1, that change
             # less its own noise (conservative for smooth signals, where it is a fifteenth)
-            diff2 = max(float(np.mean((aW - a2) ** 2)) - sig ** 2 * float(np.sum(hd ** 2)), 0.0)
+            smooth = ~(maximum_filter1d(sharp.astype(np.int8), W2) > 0) if sharp.any() else slice(None)
+            diff2 = max(float(np.mean((aW - a2)[smooth] ** 2)) - sig ** 2 * float(np.sum(hd ** 2)), 0.0)
             bias2 = diff2 / 9.0
             sig_v = sig * _gain(W, dv, dt)
             # bias counts four times: unlike noise it is structured, and the residual tests see it
@@ -145,14 +151,13 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     extra = dict(rec.extra)
     bias_nm = np.abs(J0 * (a - a2)) / 3.0
     extra["conditioning_bias_nm"] = bias_nm
-    from scipy.ndimage import maximum_filter1d
 
     # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
     # difference is mostly noise, which the floor's errors-in-variables part already counts
     significant = np.abs(a - a2) > 3.0 * sig_d
     bad = maximum_filter1d(((bias_nm > RESOLVED_BIAS_SHARE * st) & significant).astype(np.int8), W) > 0
     if vel_meas:
-        bad |= unresolved_transients(rec.velocity, sv)
+        bad |= sharp
     if source == "position" and q > 0:
         # a quantised position resolves speeds above one step per window only: below that even the
         # direction of motion is not known from the samples, so neither is the friction
@@ -190,31 +195,62 @@ def conditioned_kinematics(t, position, velocity, source: str, W: int):
     return v, a, th
 
 
-def perturbed_kinematics(rec_in, cond: "Conditioning", seed: int = 0):
-    """Velocity and acceleration conditioned exactly as ``cond`` says from the measured signals with
-    fresh noise of the estimated size added (position: a uniform dither of one encoder step, or
-    white noise of the estimated std; velocity: white noise of the estimated std). The model's
-    prediction with these minus that on the conditioned recording is one draw of the errors in
-    variables that the derivatives' noise brings into the residual. The bristle path is not
-    perturbed: an encoder's error along the path is steps without chatter, which a dither does not
-    imitate (it would drive the bristles as a real dither does)."""
+def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0):
+    """One draw of the errors in variables: ``(synthetic, reference)``, each ``(v, a, bristle
+    path)``, built from the measured signals exactly as the fit's kinematics are (``cond``'s source
+    and window; ``path``: ``measured`` or ``complementary``), the synthetic one from measurements
+    carrying fresh errors of the kind and size estimated from the data. The model's prediction on
+    the synthetic minus that on the reference is one draw of what the kinematics' errors bring into
+    the residual.
+
+    Each error is imitated in kind, since the bristles respond to its shape, not only its size:
+    white noise on a velocity column (and its integral where it is the only sensor: the path is
+    then a random walk); on a quantised position, the smooth path re-quantised on a randomly
+    shifted grid (a staircase with steps where the joint crosses them, against that smooth path as
+    reference: a white dither of one step would drive the bristles as a real dither does); white
+    noise on an unquantised position."""
+    from scipy.integrate import cumulative_trapezoid
+
     from ..io import derive_kinematics
 
     rng = np.random.default_rng(seed)
     t = np.asarray(rec_in.time, float)
     pos = np.asarray(rec_in.position, float)
     vel = np.asarray(rec_in.velocity, float)
-    if cond.position_measured:
-        pos = pos + (rng.uniform(-0.5, 0.5, pos.size) * cond.quantisation if cond.quantisation > 0
-                     else rng.standard_normal(pos.size) * cond.position_noise)
-    if cond.velocity_measured:
-        vel = vel + rng.standard_normal(vel.size) * cond.velocity_noise
+    pos_ref, vel_ref = pos, vel
+    vel_syn = vel + rng.standard_normal(vel.size) * cond.velocity_noise if cond.velocity_measured else vel
+    if cond.position_measured and cond.quantisation > 0:
+        q = cond.quantisation
+        # the smooth path: the complementary one (velocity where measured, else the position's
+        # derivative at the chosen window) pulled to the encoder over seconds
+        src = "velocity" if cond.velocity_measured else "position"
+        pos_ref = conditioned_kinematics(t, pos, vel, src, max(cond.window, 5))[2]
+        u = rng.uniform(0.0, q)
+        pos_syn = q * np.round((pos_ref + u) / q) - u
     elif cond.position_measured:
-        vel = np.gradient(pos, t)
-    if cond.source == "recording":
-        return vel, derive_kinematics(t, vel)
-    v, a, _ = conditioned_kinematics(t, pos, vel, cond.source, cond.window)
-    return v, a
+        pos_syn = pos + rng.standard_normal(pos.size) * cond.position_noise
+    else:
+        pos_syn = pos + np.concatenate([[0.0], cumulative_trapezoid(vel_syn - vel, t)])
+    if not cond.velocity_measured:
+        vel_ref, vel_syn = np.gradient(pos_ref, t), np.gradient(pos_syn, t)
+
+    def build(p, v_in):
+        if cond.source == "recording":
+            return v_in, derive_kinematics(t, v_in), p
+        v, a, th = conditioned_kinematics(t, p, v_in, cond.source, cond.window)
+        return v, a, (p if path == "measured" else th)
+
+    return build(pos_syn, vel_syn), build(pos_ref, vel_ref)
+
+
+def forget_after(mask, position, length: float) -> np.ndarray:
+    """``mask`` widened forward: after each masked run, until the joint has travelled ``length``
+    along its path (the bristles' memory: LuGre's z forgets its past over a few relaxation lengths
+    Fs/sigma0 of travel)."""
+    mask = np.asarray(mask, bool)
+    s = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(np.asarray(position, float))))])
+    last = np.maximum.accumulate(np.where(mask, np.arange(mask.size), -1))
+    return mask | ((last >= 0) & (s - s[np.maximum(last, 0)] < length))
 
 
 def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:

@@ -196,17 +196,31 @@ def position_periodogram(theta, r, kappa, nbins: int = 2048, oversample: int = 4
             "statistic": float(z[i]), "period": float(1 / freqs[i])}
 
 
-def time_periodogram(t, r, half_window: int = 200):
-    """Schuster periodogram of the residual vs time, each ordinate over the local median of its
-    neighbours (so that coloured noise is not mistaken for a line)."""
+def _local_background(I, half_window: int, share: float = 1.0 / 3.0, min_half: int = 10):
+    """Median of each ordinate's neighbours, over +-max(min_half, min(half_window, share*k)) bins
+    at bin k: a window proportional to the frequency at the low end, where the residual of an
+    inverse model is red (errors in variables along a repeated excitation leave a hump there, not
+    a line), and ``half_window`` bins above."""
     from scipy.ndimage import median_filter
 
+    bg = median_filter(I, size=2 * half_window + 1, mode="reflect")
+    k_full = int(np.ceil(half_window / share))
+    for k in range(min(k_full, I.size)):
+        h = max(min_half, int(share * (k + 1)))
+        lo, hi = max(0, k - h), min(I.size, k + h + 1)
+        bg[k] = np.median(np.concatenate([I[lo:k], I[k + 1:hi]]))
+    return bg
+
+
+def time_periodogram(t, r, half_window: int = 200):
+    """Schuster periodogram of the residual vs time, each ordinate over the median of its
+    neighbours (:func:`_local_background`), so that coloured noise is not mistaken for a line."""
     n = r.size
     dt = float(np.median(np.diff(t)))
     X = np.fft.rfft(r - r.mean())
     I = (np.abs(X) ** 2 / n)[1:]
     f = np.fft.rfftfreq(n, dt)[1:]
-    bg = median_filter(I, size=2 * half_window + 1, mode="reflect") / np.log(2)
+    bg = _local_background(I, half_window) / np.log(2)
     R = I / np.maximum(bg, 1e-300)
     i = int(np.argmax(R))
     p_single = float(np.exp(-R[i]))
