@@ -110,11 +110,13 @@ class Finding:
     """One entry of the missing physics: a candidate accepted by the selection, or ``unexplained``.
 
     ``name``: candidate id (``position_ripple``, ``gravity``...) or ``unexplained``;
-    ``explanation``: what it is, in words; ``params``: the fitted effect's parameters (free-form,
-    the candidate's ``describe()``; for ``unexplained``: ``{"regions": [...]}``, the located
-    regions left, as :meth:`Region.to_json`, at most 10); ``validation_rmse_nm``: held-out RMSE
-    with it in the model; ``delta_bic`` (< 0) and ``p_validation`` (< alpha): the evidence it was
-    accepted on (``None`` for ``unexplained``, which is not a fit).
+    ``explanation``: what it is, in words; ``params``: the fitted effect's parameters in the FINAL
+    joint model, with every accepted effect and the baseline refitted together (free-form, the
+    candidate's ``describe()``, the same as in ``Diagnosis.improved.params``; for ``unexplained``:
+    ``{"regions": [...]}``, the located regions left, as :meth:`Region.to_json`, at most 10);
+    ``validation_rmse_nm``: held-out RMSE of the model at the step that accepted it (it and the
+    findings before it); ``delta_bic`` (< 0) and ``p_validation`` (< alpha): the evidence it was
+    accepted on at that step (``None`` for ``unexplained``, which is not a fit).
     """
 
     name: str

@@ -22,6 +22,7 @@ Pipeline (the joint model and friction are those of Li et al., Electronics 2020,
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import equinox as eqx
@@ -381,7 +382,13 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
 
     located = tuple(Region.from_test(x) for x in loc0["located"])
     remaining = tuple(Region.from_test(x) for x in loc_cur["located"]) if accepted else located
-    missing = list(accepted)
+    # every later step refits the earlier findings jointly with the new one: a finding's parameters
+    # are those of the final joint model (the values at its own step carry what it absorbed of the
+    # effects not yet in the model, e.g. a ripple taking part of a torque offset where the joint
+    # dwells); its evidence (delta_bic, p_validation, validation RMSE) stays that of its step
+    ctx_final = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev)
+    missing = [dataclasses.replace(a, params=c.describe(ctx_final))
+               for a, c in zip(accepted, current.candidates, strict=True)]
     if remaining:
         missing.append(Finding(name="unexplained",
                                explanation="Residual structure remains where listed, and no candidate in the "
@@ -393,8 +400,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         verdict += "+unexplained"
     improved = Improved(
         params={**M.model_params(current),
-                **{c.id: c.describe(_ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev))
-                   for c in current.candidates}},
+                **{c.id: c.describe(ctx_final) for c in current.candidates}},
         rmse_nm=float(np.sqrt(np.mean(r_cur[~val] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur)
@@ -417,8 +423,6 @@ class _Proto:
     @classmethod
     def get(cls, klass):
         if klass not in cls._cache:
-            import dataclasses
-
             kw = {}
             for f in dataclasses.fields(klass):
                 if "rel_bounds" in f.metadata:
