@@ -27,6 +27,8 @@ import numpy as np
 from scipy import stats
 
 
+BACKGROUND_DOF = 0.3  # degrees of freedom per neighbour of the time periodogram's median background
+MIN_PERIODS = 10  # a time-periodic line needs this many periods in the recording
 RESOLUTION = 0.15  # binned-mean margin, in units of the estimated per-sample torque noise
 
 
@@ -197,34 +199,48 @@ def position_periodogram(theta, r, kappa, nbins: int = 2048, oversample: int = 4
 
 
 def _local_background(I, half_window: int, share: float = 1.0 / 3.0, min_half: int = 10):
-    """Median of each ordinate's neighbours, over +-max(min_half, min(half_window, share*k)) bins
-    at bin k: a window proportional to the frequency at the low end, where the residual of an
+    """Median of each ordinate's neighbours, over +-h_k = max(min_half, min(half_window, share*k))
+    bins at bin k: a window proportional to the frequency at the low end, where the residual of an
     inverse model is red (errors in variables along a repeated excitation leave a hump there, not
-    a line), and ``half_window`` bins above."""
+    a line), and ``half_window`` bins above. Returns (background, neighbours used per bin)."""
     from scipy.ndimage import median_filter
 
     bg = median_filter(I, size=2 * half_window + 1, mode="reflect")
+    used = np.full(I.size, 2 * half_window + 1, float)
     k_full = int(np.ceil(half_window / share))
     for k in range(min(k_full, I.size)):
         h = max(min_half, int(share * (k + 1)))
         lo, hi = max(0, k - h), min(I.size, k + h + 1)
-        bg[k] = np.median(np.concatenate([I[lo:k], I[k + 1:hi]]))
-    return bg
+        nb = np.concatenate([I[lo:k], I[k + 1:hi]])
+        bg[k], used[k] = np.median(nb), nb.size
+    return bg, used
 
 
 def time_periodogram(t, r, half_window: int = 200):
     """Schuster periodogram of the residual vs time, each ordinate over the median of its
-    neighbours (:func:`_local_background`), so that coloured noise is not mistaken for a line."""
+    neighbours (:func:`_local_background`), so that coloured noise is not mistaken for a line.
+
+    The background is itself estimated, so the ratio of an ordinate to it is F-like: the
+    single-ordinate p-value is (1 + R/nu)^-nu rather than exp(-R), with nu = BACKGROUND_DOF times
+    the neighbours used (the median of N exponential ordinates is worth fewer degrees of freedom
+    than their mean; the share is calibrated on white noise, see docs/diagnosis.md)."""
     n = r.size
     dt = float(np.median(np.diff(t)))
     X = np.fft.rfft(r - r.mean())
     I = (np.abs(X) ** 2 / n)[1:]
     f = np.fft.rfftfreq(n, dt)[1:]
-    bg = _local_background(I, half_window) / np.log(2)
-    R = I / np.maximum(bg, 1e-300)
-    i = int(np.argmax(R))
-    p_single = float(np.exp(-R[i]))
-    p = float(-np.expm1(R.size * np.log1p(-min(p_single, 1 - 1e-16)))) if p_single > 0 else 0.0
+    bg, used = _local_background(I, half_window)
+    R = I / np.maximum(bg / np.log(2), 1e-300)
+    nu = BACKGROUND_DOF * used
+    logp = -nu * np.log1p(R / nu)
+    # a line is a periodicity: at least MIN_PERIODS periods in the recording (slower structure is
+    # the time windows' and the drift candidate's; at the lowest ordinates a red hump and a line
+    # cannot be told apart by their neighbours)
+    logp[: MIN_PERIODS - 1] = 0.0
+    i = int(np.argmin(logp))
+    p_single = float(np.exp(logp[i]))
+    m = max(1, R.size - (MIN_PERIODS - 1))
+    p = float(-np.expm1(m * np.log1p(-min(p_single, 1 - 1e-16)))) if p_single > 0 else 0.0
     return {"freqs": f, "power": I, "ratio": R, "p_value": p, "statistic": float(R[i]),
             "frequency": float(f[i])}
 
