@@ -13,7 +13,7 @@ Tests (each gives one p-value per region):
   period grid with a Bonferroni correction for the number of independent frequencies;
 * a periodogram against TIME, each ordinate divided by the local median of its neighbours (robust to
   coloured noise), maximised with a Bonferroni correction;
-* cross-correlation of the residual with the inputs (v, a, jerk, sign(v)) at lags up to +-0.5 s, with
+* cross-correlation of the residual with the inputs (v, a, jerk, sign(v), |a|·sign(v)) at lags up to +-0.5 s, with
   Bartlett's variance for two autocorrelated series, Bonferroni over lags;
 * Ljung-Box whiteness on 20 lags (reported; not a location).
 
@@ -325,12 +325,22 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     # (the attenuated share of J*a_true, see diagnose); expected under the null, so taken out here
     eiv = rec.extra.get("eiv_inertial_nm")
     r_acc = r if eiv is None else r - np.where(keep, np.asarray(eiv, float), 0.0)
-    for name, x in (("velocity", rec.velocity), ("acceleration", rec.acceleration),
-                    ("jerk", jerk), ("sign_velocity", np.sign(rec.velocity))):
+    acc = np.asarray(rec.acceleration, float)
+    # |a|*sign(v): the shape of a friction that grows with the transmitted (inertial) torque; it is
+    # even in the acceleration, so the cross-correlations with a and jerk cancel it between
+    # speeding up and slowing down (docs/diagnosis.md, load-dependent friction)
+    for name, x in (("velocity", rec.velocity), ("acceleration", acc), ("jerk", jerk),
+                    ("sign_velocity", np.sign(rec.velocity)),
+                    ("transmitted_torque", np.abs(acc) * np.sign(rec.velocity))):
         ml = filter_lags if name in ("acceleration", "jerk") else 0
+        if name == "transmitted_torque":
+            # even in the acceleration, it does not share the conditioning filter's noise with the
+            # residual at short lags (the filtered noise enters odd); with derivatives of a
+            # quantised position (filter_lags past max_lag) it is not run, like a and jerk
+            ml = 0 if filter_lags <= max_lag else filter_lags
         x = np.asarray(x, float)
         x = np.where(keep, x, np.mean(x[keep]) if keep.any() else 0.0)
-        xc = xcorr_test(r_acc if name in ("acceleration", "jerk") else r, x, max_lag, L, ml)
+        xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r, x, max_lag, L, ml)
         if xc is not None:
             xcs[name] = xc
             tests.append({"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
