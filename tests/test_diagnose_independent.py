@@ -83,16 +83,20 @@ def test_gravity_not_named_on_small_position_span():
 
 # each candidate, well above the concealed level, on a short independent staircase of issue #20's
 # kind (100 Hz); the candidate competes with two rivals (the full library competes in
-# experiments/diagnose_independent). Slow: a few minutes each.
+# experiments/diagnose_independent). Each case has its own excitation: the 5-speed staircase shows
+# most effects, but a Stribeck exponent needs speeds spread over the curve's fall (8 speeds, otherwise
+# the baseline's Fs and vs absorb delta) and gravity a longer position span. Slow: a few minutes each.
+_FIVE = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
 EFFECT_CASES = {
-    "position_ripple": ([T.PositionRipple(0.12, 5.0, 1.0)], "period", 5.0, 0.05),
-    "asymmetry": ([T.Asymmetry(0.1)], "offset", 0.1, 0.3),
-    "thermal_drift": ([T.ThermalDrift(-0.1 / 64.0)], "rate", -0.1 / 64.0, 0.3),
-    "stribeck_shape": ([T.StribeckShape(1.0)], "delta", 1.0, 0.15),
-    "load_dependent": ([T.LoadDependent(0.15, 0.02)], "mu", 0.15, 0.3),
-    "compliance": ([T.Compliance(3.0, 0.05, 0.02)], "fn_hz", 3.0, 0.1),
-    "backlash": ([T.Backlash(0.05, 0.1)], "share", 0.1, 0.4),
-    "gravity": ([T.Gravity(0.3, -0.3)], "amplitude", 0.3, 0.3),
+    "position_ripple": ([T.PositionRipple(0.12, 5.0, 1.0)], "period", 5.0, 0.05, _FIVE),
+    "asymmetry": ([T.Asymmetry(0.1)], "offset", 0.1, 0.3, _FIVE),
+    "thermal_drift": ([T.ThermalDrift(-0.1 / 64.0)], "rate", -0.1 / 64.0, 0.3, _FIVE),
+    "stribeck_shape": ([T.StribeckShape(1.0)], "delta", 1.0, 0.15, T.Staircase(dwell=4.0, seed=3)),
+    "load_dependent": ([T.LoadDependent(0.15, 0.02)], "mu", 0.15, 0.3, _FIVE),
+    "compliance": ([T.Compliance(3.0, 0.05, 0.02)], "fn_hz", 3.0, 0.1, _FIVE),
+    "backlash": ([T.Backlash(0.05, 0.1)], "share", 0.1, 0.4, _FIVE),
+    "gravity": ([T.Gravity(0.3, -0.3)], "amplitude", 0.3, 0.3,
+                T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=12.0, seed=3)),
 }
 RIVALS = {"position_ripple": ["gravity", "asymmetry"], "asymmetry": ["gravity", "thermal_drift"],
           "thermal_drift": ["asymmetry", "gravity"], "stribeck_shape": ["asymmetry", "load_dependent"],
@@ -103,8 +107,7 @@ RIVALS = {"position_ripple": ["gravity", "asymmetry"], "asymmetry": ["gravity", 
 @pytest.mark.slow
 @pytest.mark.parametrize("effect", list(EFFECT_CASES))
 def test_each_candidate_on_independent_recording(effect):
-    effs, key, true, tol = EFFECT_CASES[effect]
-    exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0 if effect != "gravity" else 12.0, seed=3)
+    effs, key, true, tol, exc = EFFECT_CASES[effect]
     g = T.generate(exc, effs, sensors=T.Sensors(fs=100.0), seed=9)
     rep = diagnose(g.to_recording(), progress=False, max_effects=1, candidates=RIVALS[effect] + [effect])
     assert rep.named[:1] == [effect], (effect, rep.verdict, rep.selection_log)
