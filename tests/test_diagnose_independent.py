@@ -32,6 +32,19 @@ def test_generator_agrees_with_project_simulator():
     np.testing.assert_allclose(g.true["torque"], np.asarray(sol.torque_nm), atol=1e-5 * 6.0)
 
 
+def test_generator_compliance_has_the_rigid_limit():
+    """A stiff, damped spring (40 Hz, zeta 0.5, far above the 0.4 Hz sine) behind J_load = 0.02 of
+    the joint's J = 0.1: the two masses move as one, so the torque is the rigid joint's (the lag's
+    torque J_load*2*zeta/w*jerk is about 0.004 N*m here; tolerance 0.02). A load torque of the wrong
+    sign on the motor would leave an inertia J - 2*J_load, 2*J_load*a = 0.77 N*m at the peak."""
+    s = T.Sensors(fs=100.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0)
+    exc = T.PositionSine(3.0, 0.4, duration=2.5)
+    rigid = T.generate(exc, (), sensors=s)
+    stiff = T.generate(exc, [T.Compliance(40.0, 0.5, 0.02)], sensors=s)
+    k = rigid.time > 0.5  # after the start's step of the velocity reference has rung out
+    np.testing.assert_allclose(stiff.true["torque"][k], rigid.true["torque"][k], atol=0.02)
+
+
 def test_noise_estimates_recover_generator_settings():
     g = T.generate(T.Multisine(duration=8.0), (), sensors=T.Sensors(fs=200.0, torque_noise=0.08,
                                                                       velocity_noise=0.003, quantisation=0.0005))

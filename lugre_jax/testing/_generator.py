@@ -396,8 +396,10 @@ class _RHS:
             c = self.comp
             e, de = y[4], y[5]
             w = 2 * np.pi * c.fn
-            # load-minus-motor angle e: J_load*(a_m + e'') = -J_load*(w^2 e + 2 zeta w e')
-            spring = -c.J_load * (w * w * e + 2 * c.zeta * w * de)  # torque the load puts on the motor
+            # load-minus-motor angle e: the load J_load*(a_m + e'') = -J_load*(w^2 e + 2 zeta w e');
+            # the spring pushes the motor the other way (action and reaction), so the motor feels
+            # +J_load*(w^2 e + 2 zeta w e') = -J_load*a_load and u - F = J_motor*a_m + J_load*a_load
+            spring = c.J_load * (w * w * e + 2 * c.zeta * w * de)  # torque the load puts on the motor
             J_motor = p.J - c.J_load
         R = u - F - load + spring
         if self.loaddep is not None:
