@@ -107,7 +107,9 @@ EFFECT_CASES = {
     "stribeck_shape": ([T.StribeckShape(1.0)], "delta", 1.0, 0.15, T.Staircase(dwell=4.0, seed=3)),
     "load_dependent": ([T.LoadDependent(0.15, 0.02)], "mu", 0.15, 0.3, _FIVE),
     "compliance": ([T.Compliance(3.0, 0.05, 0.02)], "fn_hz", 3.0, 0.1, _FIVE),
-    "backlash": ([T.Backlash(0.05, 0.1)], "share", 0.1, 0.4, _FIVE),
+    # share 0.1 of the friction behind the gap is not located on this staircase (the baseline's Fs
+    # and sigma0 absorb it, validation RMSE 1.03x the floor); 0.3 is
+    "backlash": ([T.Backlash(0.05, 0.3)], "share", 0.3, 0.4, _FIVE),
     "gravity": ([T.Gravity(0.3, -0.3)], "amplitude", 0.3, 0.3,
                 T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=12.0, seed=3)),
 }
