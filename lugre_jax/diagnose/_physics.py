@@ -282,11 +282,14 @@ class Backlash(AbstractCandidate):
         terms = Terms(ctx["baseline"].friction, kin.v, jnp.ones_like(kin.v), kin.dpath)
         F = jnp.asarray(ctx["friction_torque"])
         r = np.asarray(ctx["residual"])
+        # a gap's width has nothing to do with the position span: try widths from the smallest
+        # plausible one (four steps of the position resolution) up to the bound, a factor ~3 apart
+        lo = max(4 * ctx.get("position_resolution", 0.0), 1e-6 * P)
         out = []
-        for w in (1e-6, 1e-5, 1e-4, 1e-3):
-            x = np.asarray(Backlash(w * P, 1.0).extra_torque(kin, terms, F, None))
+        for w in np.geomspace(lo, 0.02 * P, max(int(np.ceil(np.log(0.02 * P / lo) / np.log(3.0))) + 1, 2)):
+            x = np.asarray(Backlash(w, 1.0).extra_torque(kin, terms, F, None))
             share = float(np.dot(x, r) / max(np.dot(x, x), 1e-300))
-            out.append(Backlash(w * P, float(np.clip(share, 2e-4, 0.9))))
+            out.append(Backlash(float(w), float(np.clip(share, 2e-4, 0.9))))
         return out
 
     def applicable(self, ctx):

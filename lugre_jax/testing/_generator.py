@@ -347,7 +347,13 @@ class GeneratedRecording:
 
 class _RHS:
     """Closed-loop right-hand side. State: theta, omega, z, xi (PI integral) [+ e, de (compliance)]
-    [+ theta_load, z_load (backlash)]."""
+    [+ theta_load, z_load (backlash)].
+
+    A backlash makes the plant hybrid: ``mode`` is 0 while the gap is open (the load and its bristles
+    hold still) and +1/-1 while the motor pushes the load forward/back. The mode is switched by
+    events (:meth:`events`), never decided from the state inside the right-hand side: engaged, the
+    gap stays at +-width/2 only to the integrator's tolerance, and a test of it there chatters
+    between the modes and stalls the integrator at steps of 1e-10 s."""
 
     def __init__(self, plant, pi, exc, effects, t_mid):
         self.p, self.pi, self.exc, self.t_mid = plant, pi, exc, t_mid
@@ -359,6 +365,75 @@ class _RHS:
         delta = d["stribeck_shape"].delta if "stribeck_shape" in d else plant.delta
         self.plant_g = dataclasses.replace(plant, delta=delta).g
         self.n = 4 + (2 if self.comp else 0) + (2 if self.back else 0)
+        self.kb = 4 + (2 if self.comp else 0)  # index of theta_load
+        self.mode = 0  # backlash: the load starts in the middle of the gap
+
+    def events(self):
+        """Terminal events ending the current backlash mode (None without a backlash)."""
+        if self.back is None:
+            return None
+        half, kb, m = 0.5 * self.back.width, self.kb, self.mode
+        if m == 0:  # open: the gap closes on either side
+            def close_fwd(t, y):
+                return y[0] - y[kb] - half
+
+            def close_back(t, y):
+                return y[0] - y[kb] + half
+
+            close_fwd.terminal, close_fwd.direction = True, 1.0
+            close_back.terminal, close_back.direction = True, -1.0
+            return [close_fwd, close_back]
+        s = float(np.sign(m))
+        if abs(m) == 1:  # engaged: the motor stops (it can push the load, not pull it)
+            def stop(t, y):
+                return y[1]
+
+            stop.terminal, stop.direction = True, -s
+            return [stop]
+
+        # pinned: the motor's push drops to zero (it backs off) or overcomes the load's friction
+        def back_off(t, y):
+            return s * self._net(t, y, 0)
+
+        def push_through(t, y):
+            return s * self._net(t, y, int(s))
+
+        back_off.terminal, back_off.direction = True, -1.0
+        push_through.terminal, push_through.direction = True, 1.0
+        return [back_off, push_through]
+
+    def _net(self, t, y, mode):
+        """Net torque on the motor at rest (velocity 0) in ``mode`` (0 open, +-1 engaged)."""
+        y = np.array(y, float)
+        y[1] = 0.0
+        return self.parts(t, y, mode)[2]
+
+    def switch(self, t, y, event):
+        """The mode after the current one's ``event`` (index into :meth:`events`), and the state
+        made consistent with it.
+
+        At a stop of the engaged motor the next mode follows the forces at rest (Filippov): backing
+        off if its push without the load's friction is already reversed; going on if its push with
+        that friction is still forward; otherwise pinned at rest against the load (velocity held at 0,
+        the load's bristles carrying the difference) until one of those changes -- in the original
+        right-hand side, that case chattered between open and engaged at steps of 1e-15 s."""
+        y = np.array(y, float)
+        half, kb, m = 0.5 * self.back.width, self.kb, self.mode
+        if m == 0:
+            self.mode = 1 if y[0] - y[kb] > 0 else -1
+            return y
+        s = int(np.sign(m))
+        y[kb] = y[0] - s * half  # the load at the gap's edge exactly
+        y[1] = 0.0
+        if abs(m) == 2:  # pinned: the event says which way it is left
+            self.mode = s if event == 1 else 0
+        elif s * self._net(t, y, s) > 0:
+            self.mode = s
+        elif s * self._net(t, y, 0) > 0:
+            self.mode = 2 * s
+        else:
+            self.mode = 0
+        return y
 
     def _bristle(self, z, v):
         p = self.p
@@ -366,7 +441,7 @@ class _RHS:
         dz = v - p.sigma0 * abs(v) * z / g
         return p.sigma0 * z + p.sigma1 * dz + p.sigma2 * v, dz
 
-    def parts(self, t, y):
+    def parts(self, t, y, mode=None):
         p = self.p
         th, om, z, xi = y[:4]
         vr = float(self.exc.v_ref(t))
@@ -381,10 +456,9 @@ class _RHS:
         k = 4
         if self.back is not None:
             b = self.back
-            thl, zl = y[k + 0 if not self.comp else k + 2], y[k + 1 if not self.comp else k + 3]
-            half = 0.5 * b.width
-            gap = th - thl
-            engaged = (gap >= half and om > 0) or (gap <= -half and om < 0)
+            zl = y[self.kb + 1]
+            mode = self.mode if mode is None else mode
+            engaged = abs(mode) == 1
             vl = om if engaged else 0.0
             Fl, dzl = self._bristle(zl, vl)
             F = (1 - b.share) * F + (b.share * Fl if engaged else 0.0)
@@ -396,8 +470,10 @@ class _RHS:
             c = self.comp
             e, de = y[4], y[5]
             w = 2 * np.pi * c.fn
-            # load-minus-motor angle e: J_load*(a_m + e'') = -J_load*(w^2 e + 2 zeta w e')
-            spring = -c.J_load * (w * w * e + 2 * c.zeta * w * de)  # torque the load puts on the motor
+            # load-minus-motor angle e: the load J_load*(a_m + e'') = -J_load*(w^2 e + 2 zeta w e');
+            # the spring pushes the motor the other way (action and reaction), so the motor feels
+            # +J_load*(w^2 e + 2 zeta w e') = -J_load*a_load and u - F = J_motor*a_m + J_load*a_load
+            spring = c.J_load * (w * w * e + 2 * c.zeta * w * de)  # torque the load puts on the motor
             J_motor = p.J - c.J_load
         R = u - F - load + spring
         if self.loaddep is not None:
@@ -407,6 +483,9 @@ class _RHS:
             acc = Ja / J_motor
         else:
             acc = R / J_motor
+        if self.back is not None and abs(mode) == 2:
+            # pinned at rest against the load: the load's held friction takes the net torque
+            return u, vr, 0.0, dz, extra, F + load + R
         return u, vr, acc, dz, extra, F + load
 
     def __call__(self, t, y):
@@ -443,20 +522,38 @@ def generate(excitation: Excitation | None = None, effects=(), plant: Plant | No
     y = np.zeros(rhs.n)
     edges = [0.0] + [b for b in exc.breakpoints() if 0 < b < T] + [T]
     Y = np.empty((ts.size, rhs.n))
+    modes = np.zeros(ts.size, int)
+    switches = 0
     for a, b in zip(edges[:-1], edges[1:]):
-        sel = (ts >= a) & ((ts < b) | (b == T))
-        sol = solve_ivp(rhs, (a, b), y, method=method, t_eval=ts[sel], rtol=rtol, atol=atol,
-                        max_step=min(0.05, b - a))
-        if not sol.success:
-            raise RuntimeError(f"solve_ivp failed on [{a}, {b}] s: {sol.message}")
-        Y[sel] = sol.y.T
-        y = sol.y[:, -1] if sol.t.size and sol.t[-1] == b else _endpoint(rhs, a, b, y, method, rtol, atol)
+        ta = a
+        while True:
+            sel = (ts >= ta) & ((ts < b) | (b == T))
+            if ta > a:  # a sample at the switch itself came from the previous mode's solve
+                sel &= ts > ta
+            sol = solve_ivp(rhs, (ta, b), y, method=method, t_eval=ts[sel], rtol=rtol, atol=atol,
+                            max_step=min(0.05, b - ta), events=rhs.events())
+            if not sol.success:
+                raise RuntimeError(f"solve_ivp failed on [{ta}, {b}] s: {sol.message}")
+            got = np.flatnonzero(sel)[:np.size(sol.t)]
+            if got.size:
+                Y[got] = np.asarray(sol.y).T
+                modes[got] = rhs.mode
+            if sol.status == 1:  # a backlash event: switch the mode and go on from there
+                switches += 1
+                if switches > 100 * ts.size:
+                    raise RuntimeError(f"backlash: more than {switches} mode switches by t = {ta} s")
+                ev = next(i for i, te in enumerate(sol.t_events) if te.size)
+                ta = float(sol.t_events[ev][0])
+                y = rhs.switch(ta, sol.y_events[ev][0], ev)
+                continue
+            y = sol.y[:, -1] if np.size(sol.t) and sol.t[-1] == b else _endpoint(rhs, ta, b, y, method, rtol, atol)
+            break
     u = np.empty(ts.size)
     vr = np.empty(ts.size)
     acc = np.empty(ts.size)
     fr = np.empty(ts.size)
     for i, (t, yy) in enumerate(zip(ts, Y)):
-        u[i], vr[i], acc[i], _, _, fr[i] = rhs.parts(t, yy)
+        u[i], vr[i], acc[i], _, _, fr[i] = rhs.parts(t, yy, modes[i])
     rng = np.random.default_rng(seed)
     tau = u + sens.torque_noise * rng.standard_normal(ts.size)
     vel = Y[:, 1] + sens.velocity_noise * rng.standard_normal(ts.size) if sens.velocity_column else None
