@@ -5,6 +5,12 @@ compile-time constant), but a call flattens its argument once and hands ``jax.ji
 arrays and one hashable description of the rest, instead of partitioning the whole tree into two
 rebuilt trees, hashing them and binding a signature (equinox's per-call work). A batch-1 call is
 mostly this dispatch (docs/performance.md).
+
+One difference: an ``eqx.error_if`` that fires inside (e.g. a traced inertia check in a
+``map_lanes`` function) surfaces as JAX's runtime error carrying the message, not as equinox's
+``EquinoxRuntimeError``: ``filter_jit`` gets the latter by blocking on every call, which would
+give up asynchronous dispatch. Under a caller's own ``jax.jit`` nothing changes (its boundary is
+the caller's).
 """
 
 from __future__ import annotations
