@@ -2,7 +2,7 @@
 
 Layout by concern: ``_system`` (the ODE), ``_stepping`` (choices as objects), ``_fixed``
 (fixed-step RK in ``lax.scan``), ``_adaptive`` (diffrax, error-controlled), ``_lanes`` (chunks and
-devices), ``_simulate`` (the entry point), ``_solution`` (what comes back).
+devices), ``_jit`` (the jit boundary), ``_simulate`` (the entry point), ``_solution`` (what comes back).
 """
 
 from ._lanes import (

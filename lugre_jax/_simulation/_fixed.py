@@ -11,6 +11,7 @@ from jax.ad_checkpoint import checkpoint_name
 from .._fusion import derivative_stored_once, runtime_one
 from .._fusion import stored_once as _stored_once
 from ._solution import RESULT_NONFINITE, RESULT_OK
+from ._stepping import step_for
 from ._system import rates, sample, split
 
 _STAGE_INPUT = "lugre_jax_stage_input"
@@ -65,7 +66,7 @@ def step_plan(dt: float, sample_hz: float) -> tuple[int, int]:
 
 def rhs_evals(stepping, n: int, sample_hz: float) -> int:
     """Right-hand-side evaluations of one lane's fixed-step solve over ``n`` samples."""
-    sub, span = step_plan(stepping.step_for(sample_hz), sample_hz)
+    sub, span = step_plan(step_for(stepping, sample_hz), sample_hz)
     return -(-(n - 1) // span) * sub * stepping.evals_per_step
 
 
@@ -81,7 +82,7 @@ def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
     """Fixed-step solve: ``(ys, result)``, or with ``sample_fn`` ``(mean of sample_fn, result)``."""
     tableau = stepping.solver.tableau
     h_sample = 1.0 / sample_hz
-    sub, span = step_plan(stepping.step_for(sample_hz), sample_hz)
+    sub, span = step_plan(step_for(stepping, sample_hz), sample_hz)
     h = h_sample * span / sub
     y0 = split(system.y0)
 

@@ -9,21 +9,31 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from .._types import PyTree
+from ._jit import join_arrays, split_arrays
 
 DEFAULT_CHUNK = 200  # simulate's forward solves: a step's working set stays in cache
 _MAP_LANES_CHUNK = 64  # map_lanes' reverse passes store each lane's state per step: smaller chunks
 _VECTOR_LANES = 8  # float64 lanes of a 512-bit vector (lugre_jax.configure's vector width)
 
 
-def lane_count(tree, what: str, fix: str) -> int:
-    arrays = [x for x in jax.tree.leaves(tree) if eqx.is_array(x)]
-    sizes = {x.shape[0] for x in arrays if x.ndim > 0}
-    if len(sizes) != 1 or any(x.ndim == 0 for x in arrays):
+def split_lanes(tree, what: str, fix: str):
+    """``(arrays, spec, b)``: ``tree`` split as :func:`split_arrays` does, and the leading (lane)
+    axis ``b`` shared by its array leaves (``ValueError`` naming ``what`` and ``fix`` if they
+    disagree or one is a scalar). One flatten serves the check and the call."""
+    arrays, spec = split_arrays(tree)
+    shapes = [x.shape for x in arrays]
+    sizes = {sh[0] for sh in shapes if sh}
+    n_scalars = sum(not sh for sh in shapes)
+    if len(sizes) != 1 or n_scalars:
         raise ValueError(
             f"{what} needs one leading batch axis on every array leaf; {fix} "
-            f"(found leading sizes {sorted(sizes)} and {sum(x.ndim == 0 for x in arrays)} unbatched scalars)"
+            f"(found leading sizes {sorted(sizes)} and {n_scalars} unbatched scalars)"
         )
-    return sizes.pop()
+    return arrays, spec, sizes.pop()
+
+
+_SYSTEM_LANES = ("a batched System", "use lugre_jax.broadcast_system(system, n) or "
+                 "lugre_jax.stack_systems([...]) to build one")
 
 
 def batch_size_of(system) -> int:
@@ -31,8 +41,7 @@ def batch_size_of(system) -> int:
 
     Python-number leaves (e.g. ``delta = 2.0``) are compile-time constants shared by all lanes.
     """
-    return lane_count(system, "a batched System", "use lugre_jax.broadcast_system(system, n) or "
-                      "lugre_jax.stack_systems([...]) to build one")
+    return split_lanes(system, *_SYSTEM_LANES)[2]
 
 
 def broadcast_system(system, n: int):
@@ -51,11 +60,13 @@ def stack_systems(systems: list):
     return jax.tree.map(stack, *systems)
 
 
-def chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_chunk: int = DEFAULT_CHUNK,
+def chunked_lanes(key, one_lane, lanes, chunk_size, shard: bool, default_chunk: int = DEFAULT_CHUNK,
                   lane_multiple: int = 1):
     """``jax.vmap(one_lane)(tree)`` over the ``b`` lanes (leading axis) of ``tree``'s arrays, in
-    chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable). A
-    default chunk of more than ``lane_multiple`` lanes is rounded up to a multiple of it."""
+    chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable).
+    ``lanes`` is ``split_lanes(tree, ...)``. A default chunk of more than ``lane_multiple`` lanes
+    is rounded up to a multiple of it."""
+    arrays, spec, b = lanes
     devices = jax.local_devices()
     ndev = max(1, min(len(devices) if shard else 1, b))
     per_dev = -(-b // ndev)
@@ -71,19 +82,12 @@ def chunked_lanes(key, one_lane, tree, b: int, chunk_size, shard: bool, default_
     per_dev = -(-per_dev // chunk) * chunk
     total = per_dev * ndev
     if total != b:  # pad with copies of lane 0, dropped afterwards
-        tree = jax.tree.map(
-            lambda x: jnp.concatenate([x, jnp.repeat(x[:1], total - b, 0)]) if eqx.is_array(x) else x,
-            tree,
-        )
+        arrays = [jnp.concatenate([x, jnp.repeat(x[:1], total - b, 0)]) for x in arrays]
     fn = _compiled(ndev, chunk, key, one_lane)
     if ndev > 1:
         mesh = Mesh(np.array(devices[:ndev]), ("lanes",))
-        tree = eqx.combine(
-            jax.device_put(eqx.filter(tree, eqx.is_array), NamedSharding(mesh, PartitionSpec("lanes"))),
-            eqx.filter(tree, eqx.is_array, inverse=True),
-        )
-    dyn, static = eqx.partition(tree, eqx.is_array)
-    out = fn(dyn, static)
+        arrays = jax.device_put(arrays, NamedSharding(mesh, PartitionSpec("lanes")))
+    out = fn(arrays, spec)
     # drop the padding lanes; without padding no slicing (one dispatch per output leaf per call)
     return out if total == b else jax.tree.map(lambda x: x[:b], out)
 
@@ -94,8 +98,9 @@ _CACHE: dict = {}
 def _compiled(ndev: int, chunk: int, key, one_lane):
     """One jitted function per (devices, chunk, key): repeated calls reuse the compilation."""
     key = (ndev, chunk, key)
-    if key in _CACHE:
-        return _CACHE[key]
+    fn = _CACHE.get(key)  # one hash of the key (it holds equinox Modules, hashed field by field)
+    if fn is not None:
+        return fn
 
     def run_chunks(tree):
         # lax.map over chunks keeps peak memory at one chunk's working set.
@@ -112,18 +117,20 @@ def _compiled(ndev: int, chunk: int, key, one_lane):
         out = jax.lax.map(per_chunk, dyn)
         return jax.tree.map(lambda x: x.reshape((n_lanes,) + x.shape[2:]), out)
 
-    def fn(dyn, static):
-        run = lambda d: run_chunks(eqx.combine(d, static))  # noqa: E731
+    def fn(arrays, spec):
+        # The arrays are traced, ``spec`` (tree structure and Python-number leaves) is static, as
+        # with eqx.filter_jit; lax.map's outputs are all arrays, so they need no filtering.
+        run = lambda a: run_chunks(join_arrays(a, spec))  # noqa: E731
         if ndev > 1:
             mesh = Mesh(np.array(jax.local_devices()[:ndev]), ("lanes",))
             run = jax.shard_map(run, mesh=mesh, in_specs=PartitionSpec("lanes"),
                                 out_specs=PartitionSpec("lanes"), check_vma=False)
-        return run(dyn)
+        return run(arrays)
 
-    _CACHE[key] = eqx.filter_jit(fn)
+    fn = _CACHE[key] = jax.jit(fn, static_argnums=1)
     if len(_CACHE) > 64:  # bounded: each entry holds a compiled executable
         _CACHE.pop(next(iter(_CACHE)))
-    return _CACHE[key]
+    return fn
 
 
 def map_lanes(fn, xs: PyTree, *, chunk_size: int | None = None, shard: bool | None = None) -> PyTree:
@@ -146,7 +153,7 @@ def map_lanes(fn, xs: PyTree, *, chunk_size: int | None = None, shard: bool | No
     """
     if not callable(fn):
         raise ValueError(f"map_lanes needs a function of one lane, got {type(fn).__name__}")
-    b = lane_count(xs, "map_lanes", "give every array leaf of xs the same leading (lane) axis")
+    lanes = split_lanes(xs, "map_lanes", "give every array leaf of xs the same leading (lane) axis")
     if shard is None:
-        shard = len(jax.local_devices()) > 1 and b >= 2 * _MAP_LANES_CHUNK
-    return chunked_lanes(("map_lanes", fn), fn, xs, b, chunk_size, shard, _MAP_LANES_CHUNK, _VECTOR_LANES)
+        shard = len(jax.local_devices()) > 1 and lanes[2] >= 2 * _MAP_LANES_CHUNK
+    return chunked_lanes(("map_lanes", fn), fn, lanes, chunk_size, shard, _MAP_LANES_CHUNK, _VECTOR_LANES)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import diffrax
 import equinox as eqx
@@ -13,10 +12,11 @@ import numpy as np
 
 from ..xla import require_x64
 from ._adaptive import solve_adaptive
-from ._fixed import rhs_evals, solve_fixed
-from ._lanes import batch_size_of, chunked_lanes
+from ._fixed import rhs_evals, solve_fixed, step_plan
+from ._jit import array_jit
+from ._lanes import _SYSTEM_LANES, batch_size_of, chunked_lanes, split_lanes
 from ._solution import RESULT_OK, SampleMean, Solution
-from ._stepping import AbstractStepping, Adaptive, FixedStep, Lanes, SaveAt
+from ._stepping import AbstractStepping, Adaptive, FixedStep, Lanes, SaveAt, step_for
 from ._system import System, sample, signals, split
 
 # Below this many right-hand-side evaluations per call, splitting lanes over host devices costs more
@@ -81,9 +81,8 @@ def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepp
     return sol if saveat.fn is None else saveat.fn(sol)
 
 
-@eqx.filter_jit
-def _jit_one(system, n, sample_hz, stepping, saveat, check_inertia):
-    return _solve_one(system, n, sample_hz, stepping, saveat, check_inertia)
+# Arrays of the arguments traced, the rest (grid, stepping, saveat, Python numbers) static.
+_jit_one = array_jit(lambda args: _solve_one(*args))
 
 
 def simulate(
@@ -131,17 +130,18 @@ def simulate(
     sample_hz = float(sample_hz)
     n = _sample_grid(float(duration_s), sample_hz)
     if isinstance(stepping, FixedStep):
-        stepping.check(sample_hz)  # a dt that fits no sample grid is refused here
+        step_plan(step_for(stepping, sample_hz), sample_hz)  # a dt that fits no sample grid is refused here
     check_inertia = _check_inertia(system)
     if not batched:
-        return _jit_one(system, n, sample_hz, stepping, saveat, check_inertia)
-    b = batch_size_of(system)
+        return _jit_one((system, n, sample_hz, stepping, saveat, check_inertia))
+    split = split_lanes(system, *_SYSTEM_LANES)
+    b = split[2]
     shard = lanes.shard
     if shard is None:
-        evals = rhs_evals(stepping, n, sample_hz) if isinstance(stepping, FixedStep) else math.inf
-        shard = len(jax.local_devices()) > 1 and b * evals >= _SHARD_MIN_EVALS and math.isfinite(evals)
+        shard = len(jax.local_devices()) > 1 and isinstance(stepping, FixedStep) and \
+            b * rhs_evals(stepping, n, sample_hz) >= _SHARD_MIN_EVALS
     key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
-    out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), system, b,
+    out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), split,
                         lanes.chunk_size, shard)
     if saveat.fn is None and saveat.mean is None:
         out = eqx.tree_at(lambda s: s.ts, out, out.ts[0])

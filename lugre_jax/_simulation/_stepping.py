@@ -47,14 +47,14 @@ class FixedStep(AbstractStepping):
 
     def step_for(self, sample_hz: float) -> float:
         """The step [s] used at ``sample_hz``: ``dt``, or by default 2.5e-3 s capped at the sample period."""
-        return min(2.5e-3, 1.0 / sample_hz) if self.dt is None else float(self.dt)
+        return step_for(self, sample_hz)
 
     def check(self, sample_hz: float) -> None:
         """``ValueError`` unless the step fits the sample grid of ``sample_hz`` (divides the sample
         period, or spans a whole number of samples)."""
         from ._fixed import step_plan
 
-        step_plan(self.step_for(sample_hz), sample_hz)
+        step_plan(step_for(self, sample_hz), sample_hz)
 
     @property
     def evals_per_step(self) -> int:
@@ -65,6 +65,12 @@ class FixedStep(AbstractStepping):
     def describe(self) -> str:
         return f"FixedStep({type(self.solver).__name__}(), dt={self.dt!r})" if self.dt else \
             f"FixedStep({type(self.solver).__name__}())"
+
+
+def step_for(stepping: FixedStep, sample_hz: float) -> float:
+    """:meth:`FixedStep.step_for` as a plain function, for code run on every call: reading a method
+    off an equinox Module builds a bound-method Module each time."""
+    return min(2.5e-3, 1.0 / sample_hz) if stepping.dt is None else float(stepping.dt)
 
 
 class Adaptive(AbstractStepping):
