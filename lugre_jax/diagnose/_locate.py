@@ -15,6 +15,7 @@ Tests (each gives one p-value per region):
   coloured noise), maximised with a Bonferroni correction;
 * cross-correlation of the residual with the inputs (v, a, jerk, sign(v), |a|·sign(v)) at lags up to +-0.5 s, with
   Bartlett's variance for two autocorrelated series, Bonferroni over lags;
+* a friction trend: the slope of the residual on sign(v)*(t - t_mid), cluster-robust;
 * Ljung-Box whiteness on 20 lags (reported; not a location).
 
 All p-values form one family, corrected by Holm's step-down method: under the null (model correct,
@@ -77,6 +78,22 @@ def cluster_mean_test(r: np.ndarray, mask: np.ndarray, blocks: np.ndarray, min_c
     q = stats.t.ppf(0.975, df)
     return {"mean_residual": mean, "ci95": [mean - q * se, mean + q * se], "statistic": float(tval),
             "df": df, "n": int(rb.size), "p_value": p, "conditioning_margin": m_bias}
+
+
+def trend_test(r: np.ndarray, x: np.ndarray, blocks: np.ndarray, keep: np.ndarray, min_clusters: int = 5):
+    """Least-squares slope of ``r`` on ``x`` over the ``keep`` samples, with a cluster-robust
+    (time-block) standard error and Student-t with (clusters - 1) dof; None if too few clusters."""
+    rb, xb, bb = r[keep], x[keep], blocks[keep]
+    _, inv = np.unique(bb, return_inverse=True)
+    G = int(inv.max()) + 1 if inv.size else 0
+    sxx = float(np.dot(xb, xb))
+    if G < min_clusters or sxx <= 0:
+        return None
+    beta = float(np.dot(xb, rb)) / sxx
+    u = np.bincount(inv, weights=xb * (rb - beta * xb))
+    se = np.sqrt(max(G / (G - 1) * float(np.sum(u ** 2)) / sxx ** 2, 1e-300))
+    tval = beta / se
+    return {"slope": beta, "statistic": float(tval), "df": G - 1, "p_value": float(2 * stats.t.sf(abs(tval), G - 1))}
 
 
 def _reversal_clock(t, v, v_dead):
@@ -345,6 +362,15 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
             xcs[name] = xc
             tests.append({"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
                           "statistic": xc["statistic"], "p_value": xc["p_value"]})
+    # friction drifting in time: the residual grows along sign(v)*(t - t_mid). A square wave with
+    # the excitation's direction changes, its mean over any time window is ~0, so neither the
+    # time windows nor the velocity bands (which average over time) see it
+    tt = np.asarray(rec.time, float)
+    tr = trend_test(r, np.sign(np.asarray(rec.velocity, float)) * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep)
+    if tr is not None:
+        tests.append({"test": "friction_trend", "region": {"input": "sign(v)*(t - t_mid)",
+                                                            "slope": tr["slope"]},
+                      "statistic": tr["statistic"], "p_value": tr["p_value"]})
     lb = ljung_box(r, min_lag=max(1, filter_lags), margin=RESOLUTION ** 2 if scales.get("noise") else 0.0)
     tests.append({"test": "whiteness_ljung_box", "region": {"whole_recording": True, "lags": lb["df"],
                                                             "from_lag": max(1, filter_lags)},
