@@ -80,9 +80,11 @@ def cluster_mean_test(r: np.ndarray, mask: np.ndarray, blocks: np.ndarray, min_c
             "df": df, "n": int(rb.size), "p_value": p, "conditioning_margin": m_bias}
 
 
-def trend_test(r: np.ndarray, x: np.ndarray, blocks: np.ndarray, keep: np.ndarray, min_clusters: int = 5):
+def trend_test(r: np.ndarray, x: np.ndarray, blocks: np.ndarray, keep: np.ndarray, min_clusters: int = 5,
+               margin: float = 0.0):
     """Least-squares slope of ``r`` on ``x`` over the ``keep`` samples, with a cluster-robust
-    (time-block) standard error and Student-t with (clusters - 1) dof; None if too few clusters."""
+    (time-block) standard error and Student-t with (clusters - 1) dof; None if too few clusters.
+    ``margin``: a slope below it is not claimed (the test is of |slope| > margin)."""
     rb, xb, bb = r[keep], x[keep], blocks[keep]
     _, inv = np.unique(bb, return_inverse=True)
     G = int(inv.max()) + 1 if inv.size else 0
@@ -92,7 +94,7 @@ def trend_test(r: np.ndarray, x: np.ndarray, blocks: np.ndarray, keep: np.ndarra
     beta = float(np.dot(xb, rb)) / sxx
     u = np.bincount(inv, weights=xb * (rb - beta * xb))
     se = np.sqrt(max(G / (G - 1) * float(np.sum(u ** 2)) / sxx ** 2, 1e-300))
-    tval = beta / se
+    tval = np.sign(beta) * max(abs(beta) - margin, 0.0) / se
     return {"slope": beta, "statistic": float(tval), "df": G - 1, "p_value": float(2 * stats.t.sf(abs(tval), G - 1))}
 
 
@@ -365,8 +367,13 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     # friction drifting in time: the residual grows along sign(v)*(t - t_mid). A square wave with
     # the excitation's direction changes, its mean over any time window is ~0, so neither the
     # time windows nor the velocity bands (which average over time) see it
+    # margin: as for the binned means, a change of the direction-signed mean residual from the
+    # first half of the recording to the second (slope * duration / 2) below RESOLUTION of the
+    # per-sample noise is not claimed
     tt = np.asarray(rec.time, float)
-    tr = trend_test(r, np.sign(np.asarray(rec.velocity, float)) * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep)
+    dur = max(float(tt[-1] - tt[0]), 1e-300)
+    tr = trend_test(r, np.sign(np.asarray(rec.velocity, float)) * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep,
+                    margin=RESOLUTION * float(scales.get("noise", 0.0)) / (0.5 * dur))
     if tr is not None:
         tests.append({"test": "friction_trend", "region": {"input": "sign(v)*(t - t_mid)",
                                                             "slope": tr["slope"]},
