@@ -44,3 +44,33 @@ def test_narrow_low_line_is_found():
     r = r + 0.02 * np.sin(2 * np.pi * 0.3 * t)  # a line a quarter of the noise, 0.3 Hz
     tp = time_periodogram(t, r)
     assert tp["p_value"] < 1e-6 and abs(tp["frequency"] - 0.3) < 0.01
+
+
+def _direction_signal(n=28800, fs=200.0):
+    t = np.arange(n) / fs
+    v = np.where((t // 9.0) % 2 == 0, 1.0, -1.0)  # out and back every 9 s
+    blocks = (t // 1.0).astype(int)
+    return t, v, blocks
+
+
+def test_trend_test_level_and_margin():
+    """The friction-trend test (slope of the residual on sign(v)*(t - t_mid)): on white residuals
+    it fires at most 8 of 100 times at 5 % (binomial P(>= 9) = 0.06); a drift whose half-to-half
+    change is 0.03 N*m (noise 0.08, margin 0.012) is found; one of 0.006, below the margin, is not
+    claimed."""
+    from lugre_jax.diagnose._locate import trend_test
+
+    t, v, blocks = _direction_signal()
+    x = np.sign(v) * (t - t.mean())
+    keep = np.ones(t.size, bool)
+    D = t[-1] - t[0]
+    margin = 0.15 * 0.08 / (0.5 * D)
+    rng = np.random.default_rng(5)
+    hits = sum(trend_test(0.08 * rng.standard_normal(t.size), x, blocks, keep, margin=0.0)["p_value"] < 0.05
+               for _ in range(100))
+    assert hits <= 8, hits
+    noise = 0.08 * rng.standard_normal(t.size)
+    big = trend_test(noise + (0.03 / (0.5 * D)) * x, x, blocks, keep, margin=margin)
+    small = trend_test(noise + (0.006 / (0.5 * D)) * x, x, blocks, keep, margin=margin)
+    assert big["p_value"] < 1e-6, big
+    assert small["p_value"] == 1.0 and small["statistic"] == 0.0, small
