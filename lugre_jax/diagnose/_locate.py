@@ -354,9 +354,13 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
         ml = filter_lags if name in ("acceleration", "jerk") else 0
         if name == "transmitted_torque":
             # even in the acceleration, it does not share the conditioning filter's noise with the
-            # residual at short lags (the filtered noise enters odd); with derivatives of a
-            # quantised position (filter_lags past max_lag) it is not run, like a and jerk
-            ml = 0 if filter_lags <= max_lag else filter_lags
+            # residual at short lags while the acceleration's magnitude is the signal's (the
+            # filtered noise enters odd); where noise is a tenth or more of the acceleration's
+            # variance (attenuation below 0.9) its magnitude is partly the noise's, and the short
+            # lags are skipped as for a and jerk; with derivatives of a quantised position
+            # (filter_lags past max_lag) it is not run
+            clean = float(scales.get("acceleration_attenuation", 1.0)) >= 0.9
+            ml = 0 if (filter_lags <= max_lag and clean) else filter_lags
         x = np.asarray(x, float)
         x = np.where(keep, x, np.mean(x[keep]) if keep.any() else 0.0)
         xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r, x, max_lag, L, ml)

@@ -278,6 +278,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         rec = eqx.tree_at(lambda r: r.extra, rec, {**rec.extra,
                                                  "eiv_inertial_nm": (1.0 / lam - 1.0) * float(base.J) * a_m})
     info["acceleration_attenuation"] = lam
+    scales["acceleration_attenuation"] = lam
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
     scales["noise"] = floor  # the tests' resolution margins are shares of the per-sample floor
