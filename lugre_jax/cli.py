@@ -49,7 +49,7 @@ def _configure_process(no_cache: bool) -> None:
     except OSError:
         return  # an unwritable cache directory costs speed, not correctness
     jax.config.update("jax_compilation_cache_dir", cache)
-    # Cache every compilation: the time loops compile in 0.1-20 s, the helpers around them faster.
+    # Cache every compilation, the small helpers' too (compile times: docs/performance.md).
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
     jax.config.update("jax_persistent_cache_min_entry_size_bytes", -1)
 

@@ -258,8 +258,7 @@ def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:
     within a sample or two): there no estimate of the acceleration from samples exists, and the
     inverse model's J*a is wrong by the unresolved impulse. Flagged where the velocity departs from
     its 5-sample cubic fit by more than 4 noise std (and 0.3 % of its range), widened by ``pad``
-    samples. Measured on a 100-Hz sharp staircase: 1 % of the samples, and the true model's
-    residual std 0.237 -> 0.0798 N*m (noise 0.08) once they are left out."""
+    samples (what it removes on a sharp staircase: docs/diagnosis.md)."""
     from scipy.ndimage import maximum_filter1d
 
     v = np.asarray(velocity, float)

@@ -61,8 +61,8 @@ def kinematics_of(rec) -> Kinematics:
     """Kinematics of a recording. The bristle state is driven by the POSITION increments, not by the
     integral of the velocity: LuGre's z is a function of the path (dz/dtheta = 1 - sigma0*sign(v)*z/g),
     so integrating it along the measured position keeps z exact to the encoder's resolution, while
-    integrating a noisy velocity makes z a random walk (measured on issue #20's recording: validation
-    RMSE 0.34 N*m with the true parameters, against 0.080 along the position; noise 0.080)."""
+    integrating a noisy velocity makes z a random walk (the effect on issue #20's recording:
+    docs/diagnosis.md)."""
     v = np.asarray(rec.velocity)
     V = float(np.percentile(np.abs(v), 99)) or 1.0
     s0 = float(np.sign(v[0])) if abs(v[0]) > 0.02 * V else 0.0
