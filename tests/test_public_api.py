@@ -26,6 +26,9 @@ KNOWN = {
     "experiments/diagnose_emps/run.py": "lugre_jax.diagnose._model, ._select, lugre_jax.io._emps, ._recording",
     # rhs_floor times the time loop's own right-hand side on its internal state layout, not API:
     "lugre_jax/_cli/_bench.py": "lugre_jax._simulation._system (rates, split)",
+    # a probe that takes diagnose apart (each locate test, the model's parts) to explain a miss;
+    # the public Diagnosis does not expose per-test internals
+    "experiments/diagnose_independent/load_dependent_probe.py": "lugre_jax.diagnose._locate, ._model, ._select",
 }
 
 
