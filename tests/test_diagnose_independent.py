@@ -119,16 +119,8 @@ RIVALS = {"position_ripple": ["gravity", "asymmetry"], "asymmetry": ["gravity", 
           "backlash": ["stribeck_shape", "asymmetry"], "gravity": ["position_ripple", "asymmetry"]}
 
 
-# the Stribeck exponent delta 2 -> 1 on the 8-speed staircase was located only through the time
-# periodogram's low-frequency hump, which the calibrated background no longer counts; the velocity
-# bands do not reach it once the baseline's Fs and vs absorb most of it (docs/diagnosis.md:
-# named at delta 0.4 in the concealed study). Kept as the target it should meet.
-_KNOWN_MISSES = {"stribeck_shape": "delta 1 not located since the periodogram calibration (issue #20 note)"}
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize("effect", [pytest.param(e, marks=pytest.mark.xfail(strict=True, reason=_KNOWN_MISSES[e]))
-                                    if e in _KNOWN_MISSES else e for e in EFFECT_CASES])
+@pytest.mark.parametrize("effect", list(EFFECT_CASES))
 def test_each_candidate_on_independent_recording(effect):
     effs, key, true, tol, exc = EFFECT_CASES[effect]
     g = T.generate(exc, effs, sensors=T.Sensors(fs=100.0), seed=9)

@@ -352,6 +352,24 @@ def predict(model: JointModel, kin: Kinematics) -> Float[np.ndarray, " n"]:
     return np.asarray(_predict(model, kin))
 
 
+def static_curve_basis(model: JointModel, specs: list[Spec], v) -> np.ndarray:
+    """Derivatives of the friction's steady-state curve, signed by the direction of motion, with
+    respect to the baseline's static parameters among ``specs`` (n x k; the dynamic ones have none):
+    the shapes along the speed axis that a change of the baseline's own parameters can make."""
+    paths = tuple(sp.path for sp in specs if sp.path[0] == "friction")
+    if not paths:
+        return np.zeros((np.size(v), 0))
+    v = jnp.asarray(v, float)
+
+    def folded(x):
+        m = eqx.tree_at(lambda m: [_get(m, p) for p in paths], model, [x[i] for i in range(len(paths))])
+        return m.friction.steady_state(v) * jnp.sign(v)
+
+    x0 = jnp.asarray([float(_get(model, p)) for p in paths])
+    G = np.asarray(jax.jacfwd(folded)(x0))
+    return G[:, np.any(G != 0, axis=0)]
+
+
 def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_steps: int = 200):
     """Levenberg-Marquardt (optimistix) on the weighted residual; returns (model, info).
 

@@ -59,23 +59,28 @@ def _mismatch(loc: dict, at_floor: bool) -> dict:
     return loc
 
 
-def _eiv_noise(rec_in, cond, model, kin, path, keep, draws: int = 3) -> float:
+def _eiv_noise(rec_in, cond, model, kin, path, keep, draws: int = 3) -> tuple[float, np.ndarray]:
     """Per-sample torque error that the kinematics' errors carry into the inverse model (errors in
     variables), rms over the resolved samples and ``draws`` draws of
     :func:`._condition.perturbed_kinematics`: J*a, the friction's slope, the bristles' rate
-    dependence and their path, all through the fitted model."""
+    dependence and their path, all through the fitted model.
+
+    Also returns the per-sample mean of those errors over the draws (0 where not resolved): the
+    model is nonlinear (the friction's fall at low speed), so the errors do not average out, and
+    the residual of a correct model keeps about minus this mean wherever its regions average."""
     from ._condition import perturbed_kinematics
 
     def as_kin(x):
         v, a, th = (jnp.asarray(y, float) for y in x)
         return eqx.tree_at(lambda k: (k.v, k.a, k.theta, k.dpath), kin, (v, a, th, jnp.diff(th)))
 
-    ms = []
+    ms, mean = [], np.zeros(keep.shape)
     for seed in range(draws):
         syn, ref = perturbed_kinematics(rec_in, cond, path, seed)
-        d = M.predict(model, as_kin(syn)) - M.predict(model, as_kin(ref))
+        d = np.asarray(M.predict(model, as_kin(syn)) - M.predict(model, as_kin(ref)))
         ms.append(float(np.mean(d[keep] ** 2)) if np.any(keep) else 0.0)
-    return float(np.sqrt(np.mean(ms)))
+        mean += np.where(keep, d, 0.0) / draws
+    return float(np.sqrt(np.mean(ms))), mean
 
 
 def _sse(r, w):
@@ -263,7 +268,11 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     r0 = (tau - tau_base) * keep
     # the floor of an inverse model: the torque noise and what the kinematics' noise brings through
     # the fitted model (errors in variables), both estimated from the data
-    kin_noise = _eiv_noise(rec_in, cond, base, kin, path, keep)
+    kin_noise, eiv_bias = _eiv_noise(rec_in, cond, base, kin, path, keep)
+    rec = eqx.tree_at(lambda r: r.extra, rec, {
+        **rec.extra, "eiv_bias_nm": eiv_bias,
+        "static_basis": M.static_curve_basis(base, M.baseline_specs(base, M.data_scales(rec), fit_offset),
+                                             np.asarray(rec.velocity))})
     # least squares on a noisy acceleration attenuates J by lam = var(a_true)/var(a_measured); the
     # best predictor then also misses (1 - lam)*J*a_true, so its errors-in-variables variance is
     # that of J_fit*noise over lam, and its residual keeps a share of the acceleration beyond the
