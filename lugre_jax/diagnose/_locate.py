@@ -85,28 +85,21 @@ def cluster_mean_test(r: np.ndarray, mask: np.ndarray, blocks: np.ndarray, min_c
 
 
 def trend_test(r: np.ndarray, x: np.ndarray, blocks: np.ndarray, keep: np.ndarray, min_clusters: int = 5,
-               margin: float = 0.0, nuisance: np.ndarray | None = None):
+               margin: float = 0.0):
     """Least-squares slope of ``r`` on ``x`` over the ``keep`` samples, with a cluster-robust
-    (time-block, sandwich) standard error and Student-t with (clusters - 1) dof; None if too few
-    clusters. ``nuisance``: columns fitted jointly with ``x`` (their coefficients are not tested).
+    (time-block) standard error and Student-t with (clusters - 1) dof; None if too few clusters.
     ``margin``: a slope below it is not claimed (the test is of |slope| > margin)."""
-    rb, bb = r[keep], blocks[keep]
-    X = x[keep][:, None]
-    if nuisance is not None and np.size(nuisance):
-        X = np.hstack([X, np.asarray(nuisance, float).reshape(r.size, -1)[keep]])
+    rb, xb, bb = r[keep], x[keep], blocks[keep]
     _, inv = np.unique(bb, return_inverse=True)
     G = int(inv.max()) + 1 if inv.size else 0
-    if G < min_clusters or float(np.dot(X[:, 0], X[:, 0])) <= 0:
+    sxx = float(np.dot(xb, xb))
+    if G < min_clusters or sxx <= 0:
         return None
-    XtX_inv = np.linalg.pinv(X.T @ X)
-    beta = XtX_inv @ (X.T @ rb)
-    S = np.zeros((inv.max() + 1, X.shape[1]))
-    np.add.at(S, inv, X * (rb - X @ beta)[:, None])
-    cov = G / (G - 1) * XtX_inv @ (S.T @ S) @ XtX_inv
-    se = float(np.sqrt(max(cov[0, 0], 1e-300)))
-    slope = float(beta[0])
-    tval = np.sign(slope) * max(abs(slope) - margin, 0.0) / se
-    return {"slope": slope, "statistic": float(tval), "df": G - 1, "p_value": float(2 * stats.t.sf(abs(tval), G - 1))}
+    beta = float(np.dot(xb, rb)) / sxx
+    u = np.bincount(inv, weights=xb * (rb - beta * xb))
+    se = np.sqrt(max(G / (G - 1) * float(np.sum(u ** 2)) / sxx ** 2, 1e-300))
+    tval = np.sign(beta) * max(abs(beta) - margin, 0.0) / se
+    return {"slope": beta, "statistic": float(tval), "df": G - 1, "p_value": float(2 * stats.t.sf(abs(tval), G - 1))}
 
 
 def _reversal_clock(t, v, v_dead):
@@ -438,21 +431,14 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
                           "statistic": xc["statistic"], "p_value": xc["p_value"]})
     # friction drifting in time: the residual grows along sign(v)*(t - t_mid). A square wave with
     # the excitation's direction changes, its mean over any time window is ~0, so neither the
-    # time windows nor the velocity bands (which average over time) see it. Where the excitation
-    # visits speeds in a different order in the two halves, the baseline's own static compromise
-    # and the errors-in-variables mean also move along that axis: the first is fitted jointly
-    # (the static-curve basis, as for the friction-shape bands) and the second is taken out, so
-    # the margin is the friction-shape bands' small share of the noise, as a change of the
-    # direction-signed mean from the first half of the recording to the second
+    # time windows nor the velocity bands (which average over time) see it
+    # margin: as for the binned means, a change of the direction-signed mean residual from the
+    # first half of the recording to the second (slope * duration / 2) below RESOLUTION of the
+    # per-sample noise is not claimed
     tt = np.asarray(rec.time, float)
     dur = max(float(tt[-1] - tt[0]), 1e-300)
-    sv = np.sign(np.asarray(rec.velocity, float))
-    eiv_b = rec.extra.get("eiv_bias_nm")
-    r_tr = r if eiv_b is None else r + np.where(keep, np.asarray(eiv_b, float), 0.0)
-    Gs = rec.extra.get("static_basis")
-    Gs = None if Gs is None else np.asarray(Gs, float).reshape(r.size, -1) * sv[:, None]
-    tr = trend_test(r_tr, sv * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep & (sv != 0),
-                    margin=SHAPE_RESOLUTION * float(scales.get("noise", 0.0)) / (0.5 * dur), nuisance=Gs)
+    tr = trend_test(r, np.sign(np.asarray(rec.velocity, float)) * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep,
+                    margin=RESOLUTION * float(scales.get("noise", 0.0)) / (0.5 * dur))
     if tr is not None:
         tests.append({"test": "friction_trend", "region": {"input": "sign(v)*(t - t_mid)",
                                                             "slope": tr["slope"]},
