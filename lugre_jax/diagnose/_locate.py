@@ -16,7 +16,8 @@ Tests (each gives one p-value per region):
 * cross-correlation of the residual with the inputs (v, a, jerk, sign(v), |a|·sign(v)) at lags up to +-0.5 s, with
   Bartlett's variance for two autocorrelated series, Bonferroni over lags;
 * the friction curve's shape: means of the residual signed by the direction of motion in bands of
-  log-speed, with a margin from the band's expected errors-in-variables mean;
+  log-speed, after removing what the baseline's static parameters could make, with a margin from
+  the band's expected errors-in-variables mean;
 * a friction trend: the slope of the residual on sign(v)*(t - t_mid), cluster-robust;
 * Ljung-Box whiteness on 20 lags (reported; not a location).
 
@@ -124,6 +125,8 @@ def reversal_info(t, v, V):
 
 
 def _shape_bands(rec, r, blocks, moving, u, noise) -> list[dict]:
+    """The ``friction_shape`` tests (see ``binned_tests``): one per log-speed band, or none where
+    the bands are too few to tell a shape from the baseline's own static shapes."""
     v = np.asarray(rec.velocity, float)
     sv = np.sign(v)
     ex = rec.extra

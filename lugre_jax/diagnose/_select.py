@@ -271,7 +271,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     kin_noise, eiv_bias = _eiv_noise(rec_in, cond, base, kin, path, keep)
     rec = eqx.tree_at(lambda r: r.extra, rec, {
         **rec.extra, "eiv_bias_nm": eiv_bias,
-        "static_basis": M.static_curve_basis(base, M.baseline_specs(base, M.data_scales(rec), fit_offset),
+        "static_basis": M.static_curve_basis(base, M.baseline_specs(base, scales, fit_offset),
                                              np.asarray(rec.velocity))})
     # least squares on a noisy acceleration attenuates J by lam = var(a_true)/var(a_measured); the
     # best predictor then also misses (1 - lam)*J*a_true, so its errors-in-variables variance is
