@@ -124,15 +124,20 @@ def reversal_info(t, v, V):
     return since, direction, n_rev
 
 
+def _extra_array(rec, key: str, like: np.ndarray) -> np.ndarray:
+    """``rec.extra[key]`` as a float array, zeros like ``like`` where the recording has none."""
+    x = rec.extra.get(key)
+    return np.zeros_like(like, dtype=float) if x is None else np.asarray(x, float)
+
+
 def _shape_bands(rec, r, blocks, moving, u, noise) -> list[dict]:
     """The ``friction_shape`` tests (see ``binned_tests``): one per log-speed band, or none where
     the bands are too few to tell a shape from the baseline's own static shapes."""
     v = np.asarray(rec.velocity, float)
     sv = np.sign(v)
-    ex = rec.extra
-    eiv = np.zeros_like(r) if ex.get("eiv_bias_nm") is None else np.asarray(ex["eiv_bias_nm"], float)
-    cb = np.zeros_like(r) if ex.get("conditioning_bias_nm") is None else np.asarray(ex["conditioning_bias_nm"], float)
-    G = ex.get("static_basis")
+    eiv = _extra_array(rec, "eiv_bias_nm", r)
+    cb = _extra_array(rec, "conditioning_bias_nm", r)
+    G = rec.extra.get("static_basis")
     G = np.zeros((r.size, 0)) if G is None else np.asarray(G, float).reshape(r.size, -1)
     mv = moving & (r != 0)
     if mv.sum() <= 40:
@@ -179,14 +184,13 @@ def binned_tests(rec, r, blocks, scales) -> list[dict]:
     u = rec.units
     out = []
 
-    margin = rec.extra.get("conditioning_bias_nm")
     # a region's mean must also exceed a resolution margin, a fraction of the per-sample noise:
     # the inverse model's own errors in variables at the slowest speeds leave means of that order
     # (measured: -0.0075 N*m at 0.01 deg/s on issue #20's recording with the TRUE parameters,
     # 9 % of its 0.08 N*m noise), which is not missing physics
     noise = float(scales.get("noise", 0.0))
     floor = noise * RESOLUTION
-    margin = (np.zeros_like(r) if margin is None else np.asarray(margin)) + floor
+    margin = _extra_array(rec, "conditioning_bias_nm", r) + floor
 
     def add(kind, region, mask):
         res = cluster_mean_test(r, mask, blocks, margin=margin)

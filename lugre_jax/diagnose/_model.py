@@ -269,12 +269,15 @@ class FitSpace:
         return {s.name: float(s.where(model)) for s in self.specs}
 
 
+def _with_values(template, paths, x):
+    """``template`` with the leaves at ``paths`` set to the entries of ``x``."""
+    return eqx.tree_at(lambda m: [_get(m, p) for p in paths], template, [x[i] for i in range(len(paths))])
+
+
 def _to_model(paths, bounds, template, u):
     lo, hi, lg = bounds
     y = lo + (hi - lo) * jax.nn.sigmoid(u)
-    x = jnp.where(lg, jnp.exp(y), y)
-    return eqx.tree_at(lambda m: [_get(m, p) for p in paths], template,
-                       [x[i] for i in range(len(paths))])
+    return _with_values(template, paths, jnp.where(lg, jnp.exp(y), y))
 
 
 def baseline_specs(model: JointModel, scales: dict, fit_offset: bool) -> list[Spec]:
@@ -362,8 +365,7 @@ def static_curve_basis(model: JointModel, specs: list[Spec], v) -> np.ndarray:
     v = jnp.asarray(v, float)
 
     def folded(x):
-        m = eqx.tree_at(lambda m: [_get(m, p) for p in paths], model, [x[i] for i in range(len(paths))])
-        return m.friction.steady_state(v) * jnp.sign(v)
+        return _with_values(model, paths, x).friction.steady_state(v) * jnp.sign(v)
 
     x0 = jnp.asarray([float(_get(model, p)) for p in paths])
     G = np.asarray(jax.jacfwd(folded)(x0))
