@@ -58,7 +58,10 @@ def chained(folder: Path):
     inc = 0.5 * (v[1:] + v[:-1]) * np.diff(t)
     inc[starts[1:] - 1] = 0.0
     pos[1:] = np.cumsum(inc)
-    rec = recording_from_arrays(t, pos, v, y, acceleration=np.zeros_like(t), source=str(folder))
+    # the zero acceleration is this script's assumption (constant-velocity runs), not a signal that
+    # came with the data, so the diagnosis may condition the kinematics from the samples instead
+    rec = recording_from_arrays(t, pos, v, y, acceleration=np.zeros_like(t), source=str(folder),
+                                meta={"acceleration_supplied": False})
     return rec, names
 
 

@@ -89,7 +89,11 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     gain, ``bias_W^2`` from the change from W to 2W-1 less that change's own noise. The (source, W)
     with the smaller estimate is used; its velocity, acceleration and smoothed position replace the
     recording's. If that is the velocity column at the lightest window, the recording's own
-    derivatives (e.g. EMPS: the benchmark's filtered differences) are kept as loaded.
+    derivatives are kept as loaded. Where the acceleration came with the data
+    (``meta['acceleration_supplied']``, e.g. EMPS: the benchmark's filtered differences at 1 kHz),
+    no window change measures its bias, so the data decide between it and the chosen window: the
+    one with more resolved samples per unit of the linear inverse model's mean squared residual
+    (on the samples both resolve) is used.
 
     Unresolved samples: where the per-sample smoothing-bias bound exceeds
     ``RESOLVED_BIAS_SHARE`` of the torque noise (widened by the window), and, with a velocity column,
@@ -140,18 +144,10 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     _, source, W, sig_v, sig_a, a2, sig_d = best
     common = dict(torque_noise=st, velocity_noise=sv, position_noise=float(sp), quantisation=q,
                   accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
-    if W == windows[0] and source == "velocity" and q == 0:
-        bad = unresolved_transients(rec.velocity, sv)
-        info = Conditioning(source="recording", window=1, accel_noise_torque=float(J0 * sig_a),
-                            velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
-        return rec, info, bad
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1
-    extra = dict(rec.extra)
     bias_nm = np.abs(J0 * (a - a2)) / 3.0
-    extra["conditioning_bias_nm"] = bias_nm
-
     # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
     # difference is mostly noise, which the floor's errors-in-variables part already counts
     significant = np.abs(a - a2) > 3.0 * sig_d
@@ -162,11 +158,46 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
         # a quantised position resolves speeds above one step per window only: below that even the
         # direction of motion is not known from the samples, so neither is the friction
         bad |= maximum_filter1d((np.abs(v) < q / (W * dt)).astype(np.int8), W) > 0
+    # the recording's own derivatives: kept as loaded where the lightest velocity window wins
+    use_recording = vel_meas and q == 0 and source == "velocity" and W == windows[0]
+    if vel_meas and q == 0 and not use_recording and rec.meta.get("acceleration_supplied", False):
+        # an acceleration that came with the data (e.g. EMPS: computed upstream at ten times the
+        # rate) has no window whose change measures its bias; the data decide between it and the
+        # chosen window by the information each leaves: its resolved samples over the inverse
+        # model's mean squared residual on them (docs/diagnosis.md)
+        ms_rec = _inverse_residual_ms(rec.velocity, rec.acceleration, rec.torque, ~sharp)
+        ms_win = _inverse_residual_ms(v, a, rec.torque, ~bad)
+        use_recording = (~sharp).mean() / ms_rec > (~bad).mean() / ms_win
+    if use_recording:
+        sig_a = hf_noise_std(rec.acceleration)
+        common["accel_noise"] = float(sig_a)
+        info = Conditioning(source="recording", window=1, accel_noise_torque=float(J0 * sig_a),
+                            velocity_noise_after=float(sv), unresolved_fraction=float(sharp.mean()), **common)
+        return rec, info, sharp
+    extra = dict(rec.extra)
+    extra["conditioning_bias_nm"] = bias_nm
     out = Recording(t, th, v, a, np.asarray(rec.torque, float), rec.units,
                     rec.source, extra, rec.meta)
     info = Conditioning(source=source, window=int(W), accel_noise_torque=float(J0 * sig_a),
                         velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
     return out, info, bad
+
+
+def _inverse_residual_ms(v, a, torque, keep) -> float:
+    """Mean squared residual of the linear inverse model ``J*a + Fc*sign(v) + sigma2*v + offset``
+    plus a Stribeck term (its speed searched on a grid) on the ``keep`` samples: what one set of
+    kinematics leaves unexplained, for comparing two sets on the same samples."""
+    v, a, y = (np.asarray(x, float)[keep] for x in (v, a, torque))
+    if y.size < 10:
+        return float("inf")
+    V = float(np.percentile(np.abs(v), 99)) or 1.0
+    cols = [a, np.sign(v), v, np.ones_like(v)]
+    best = float("inf")
+    for vs in V * np.logspace(-3, -0.3, 12):
+        X = np.column_stack(cols + [np.sign(v) * np.exp(-(v / vs) ** 2)])
+        b, *_ = np.linalg.lstsq(X, y, rcond=None)
+        best = min(best, float(np.mean((y - X @ b) ** 2)))
+    return best
 
 
 def conditioned_kinematics(t, position, velocity, source: str, W: int):

@@ -199,7 +199,7 @@ def load_emps(path: str | os.PathLike, decimate: bool = True) -> Recording:
     return Recording(
         cols["t"], cols["q"], cols["dq"], cols["ddq"], cols["f"], dict(SI_UNITS), str(path),
         {"position_ref": cols["qg"], "voltage_v": cols["vir"]},
-        {"gtau": gtau, "kp": float(np.ravel(d.get("kp", [np.nan]))[0]),
+        {"acceleration_supplied": True, "gtau": gtau, "kp": float(np.ravel(d.get("kp", [np.nan]))[0]),
          "kv": float(np.ravel(d.get("kv", [np.nan]))[0]), "decimated": decimate,
          "preprocessing": "benchmark IDIM: filtfilt butter(4,100Hz), central differences, "
                           "drop 49 samples, decimate 10 (Chebyshev-I, zero-phase)" if decimate else

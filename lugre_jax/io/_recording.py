@@ -14,7 +14,8 @@ CSV format (header line required, comma separated, one sample per line)::
 At least one of ``position_deg`` and ``velocity_deg_s`` must be present. A missing velocity is the
 position's central difference, a missing position the integral of the velocity; ``meta`` records
 which were measured (``velocity_measured``, ``position_measured``), so that the diagnosis conditions
-the kinematics from what was measured.
+the kinematics from what was measured; ``acceleration_supplied`` says whether the acceleration came
+with the data (e.g. EMPS: computed upstream at the full rate) rather than being derived here.
 
 Malformed input (missing column, non-numeric or NaN cell, non-increasing time) raises ``ValueError``
 naming the file, the line (1-based, header = line 1), the column and what was expected.
@@ -146,6 +147,7 @@ def recording_from_arrays(
     meta = dict(meta or {})
     meta.setdefault("velocity_measured", velocity is not None)
     meta.setdefault("position_measured", position is not None)
+    meta.setdefault("acceleration_supplied", acceleration is not None)
     time = np.asarray(time, dtype=np.float64)
     if velocity is None and np.shape(position) == time.shape and time.size >= 2:
         velocity = np.gradient(np.asarray(position, np.float64), time)
