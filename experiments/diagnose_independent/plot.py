@@ -45,6 +45,7 @@ def main():
                   f"`none` in {none}/{len(null)} ({100 * none / len(null):.0f} %); baseline validation RMSE / "
                   f"estimated noise floor: median {np.median(ratios):.3f}, max {ratios.max():.3f}; "
                   f"within 10 %: {int(np.sum(ratios <= 1.1))}/{len(null)}", "",
+                  "Torque noise: std, and the low-pass corner where it is coloured.", "",
                   "| key | plant | excitation | fs | torque noise | vel. noise | quant. | measured | n | "
                   "conditioning | unresolved | torque noise est. | kinematic noise est. | floor est. | ratio | verdict | s |",
                   "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -54,7 +55,9 @@ def main():
                                                 ("vel", r["velocity_column"])) if on)
             tn = c["torque_noise"]
             eiv = float(np.sqrt(max(r["noise_floor"] ** 2 - tn ** 2, 0.0)))
-            lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {r['torque_noise']} | "
+            hz = r.get("torque_noise_hz", 0.0)
+            tn_set = f"{r['torque_noise']}" + (f" ({hz:g} Hz)" if hz else "")
+            lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {tn_set} | "
                          f"{r['velocity_noise']} | {r['quantisation']} | {measured} | "
                          f"{r['n_samples']} | {c['source']} W={c['window']} | {c.get('unresolved_fraction', 0.0):.3f} | "
                          f"{tn:.4f} | {eiv:.4f} | {r['noise_floor']:.4f} | "

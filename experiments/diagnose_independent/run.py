@@ -8,7 +8,8 @@ Three studies (``--study``), each job appends one JSON line to ``<out>/runs.json
 * ``null``: effect-free recordings spanning the generator's settings (two plants, four excitations
   (144-s staircases, smooth or sharp; 60-120-s sine sweeps and multisines),
   100-1,000 Hz, torque noise 0.02-0.2 N*m, velocity noise 0-0.01 deg/s, quantisation 0-0.005 deg,
-  velocity column present or absent, and four velocity-only recordings); the claim: ``none`` in >= 95 % and the baseline's validation
+  velocity column present or absent, four velocity-only recordings, and six with coloured torque
+  noise, low-passed at 2-40 Hz); the claim: ``none`` in >= 95 % and the baseline's validation
   RMSE within 10 % of the estimated noise floor in every one;
 * ``issue``: the recording kind of issue #20 (its plant, PI, 288-s staircase, 200 Hz, its noise) for
   the null case and gravity, asymmetry, ripple, drift and ripple + asymmetry at the issue's sizes;
@@ -19,12 +20,18 @@ Three studies (``--study``), each job appends one JSON line to ``<out>/runs.json
     python experiments/diagnose_independent/run.py --study issue
     python experiments/diagnose_independent/run.py --study proof --shard 0/2
     python experiments/diagnose_independent/plot.py
+
+Generated recordings are cached (``--cache``, default ``<out>/cache``; keyed by the job's settings
+and the generator's source), so a study re-run on changed diagnosis code only diagnoses.
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
+import inspect
 import json
+import pickle
 import time
 from pathlib import Path
 
@@ -62,6 +69,17 @@ def null_settings(n: int = 32):
         out.append({"key": f"null{n + k:02d}", "plant": plant, "excitation": exc, "fs": fs, "torque_noise": tn,
                     "velocity_noise": vn, "quantisation": 0.0, "velocity_column": True, "position_column": False,
                     "effects": [], "seed": 1000 + n + k, "short": True})
+    # coloured torque noise (a drive's filtered or averaged current): first-order low-pass corners
+    # from 2 to 40 Hz, the std as above; every excitation, 100-500 Hz
+    for k, (plant, exc, fs, hz, tn) in enumerate([("issue", "staircase", 200.0, 10.0, 0.08),
+                                                  ("paper_like", "staircase_sharp", 100.0, 2.0, 0.08),
+                                                  ("issue", "sine_sweep", 500.0, 40.0, 0.2),
+                                                  ("paper_like", "multisine", 200.0, 5.0, 0.02),
+                                                  ("issue", "staircase", 500.0, 2.0, 0.08),
+                                                  ("paper_like", "sine_sweep", 100.0, 10.0, 0.08)]):
+        out.append({"key": f"null{n + 4 + k:02d}", "plant": plant, "excitation": exc, "fs": fs, "torque_noise": tn,
+                    "torque_noise_hz": hz, "velocity_noise": 0.003, "quantisation": 0.0005 if k % 2 else 0.0,
+                    "velocity_column": True, "effects": [], "seed": 1100 + k, "short": True})
     return out
 
 
@@ -132,17 +150,38 @@ def effects_of(job):
     return ISSUE_EFFECTS[e]
 
 
-def run_one(job, top_k):
+def _cache_path(job, cache):
+    """Where the generated recording of ``job`` is cached: keyed by the job's settings (effects
+    resolved to their parameters) and the generator's source, so any change to either regenerates."""
+    if cache is None:
+        return None
+    from lugre_jax.testing import _generator
+
+    spec = json.dumps({**job, "effects_params": [repr(e) for e in effects_of(job)]}, sort_keys=True, default=str)
+    h = hashlib.sha256((spec + inspect.getsource(_generator)).encode()).hexdigest()[:16]
+    return Path(cache) / f"{job['key']}_{h}.pkl"
+
+
+def run_one(job, top_k, cache=None):
     plant = T.Plant() if job["plant"] == "issue" else PAPER_LIKE
     ctrl = T.VelocityPI() if job["plant"] == "issue" else T.VelocityPI(kp=4.0, ki=20.0)
     sens = T.Sensors(fs=job["fs"], torque_noise=job["torque_noise"], velocity_noise=job["velocity_noise"],
                      quantisation=job["quantisation"], velocity_column=job["velocity_column"],
-                     position_column=job.get("position_column", True))
+                     position_column=job.get("position_column", True),
+                     torque_noise_hz=job.get("torque_noise_hz", 0.0))
     effs = effects_of(job)
     t0 = time.time()
-    g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"], job.get("short", False)), effs,
-                   plant, ctrl, sens,
-                   seed=job["seed"])
+    cached = _cache_path(job, cache)
+    if cached is not None and cached.exists():
+        g = pickle.loads(cached.read_bytes())
+    else:
+        g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"], job.get("short", False)), effs,
+                       plant, ctrl, sens, seed=job["seed"])
+        if cached is not None:
+            cached.parent.mkdir(parents=True, exist_ok=True)
+            tmp = cached.with_suffix(".tmp")
+            tmp.write_bytes(pickle.dumps(g))
+            tmp.replace(cached)
     t_gen = time.time() - t0
     rec = g.to_recording()
     t0 = time.time()
@@ -174,6 +213,7 @@ def main():
     ap.add_argument("--strengths", default="1,0.5")
     ap.add_argument("--top-k", type=int, default=4)
     ap.add_argument("--only", default="", help="comma-separated job keys to run (default: all)")
+    ap.add_argument("--cache", default=None, help="generated-recording cache (default <out>/cache; 'none': off)")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -185,8 +225,9 @@ def main():
     todo = [j for k, j in enumerate(jobs(a.study, [int(x) for x in a.seeds.split(",")],
                                          [float(x) for x in a.strengths.split(",")]))
             if k % n == i and j["key"] not in done and (not a.only or j["key"] in a.only.split(","))]
+    cache = None if a.cache == "none" else Path(a.cache or out / "cache")
     for job in todo:
-        row = run_one(job, a.top_k)
+        row = run_one(job, a.top_k, cache)
         with open(path, "a") as fh:  # one complete line per run: a killed run loses only itself
             fh.write(json.dumps(row, default=float) + "\n")
         print(f"{row['key']}: {row['verdict']} (true {row['true_effects']}) ratio {row['floor_ratio']:.3f} "

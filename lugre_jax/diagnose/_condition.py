@@ -5,7 +5,9 @@ correct baseline should reach.
 
 Noise estimates use the high-frequency part of each signal: the third difference of a smooth signal
 is negligible at the sampling rate while that of white noise has variance 20*sigma^2; its median
-absolute deviation makes the estimate robust to the few samples at sharp transients.
+absolute deviation makes the estimate robust to the few samples at sharp transients. The torque's
+noise may be coloured (an averaged or filtered current): :func:`torque_noise_std` then follows the
+estimate to longer lags, where it reaches the noise's full std.
 """
 
 from __future__ import annotations
@@ -16,12 +18,105 @@ import numpy as np
 from scipy.signal import savgol_coeffs, savgol_filter
 
 
+def _mad_std(d) -> float:
+    return float(1.4826 * np.median(np.abs(d - np.median(d))))
+
+
 def hf_noise_std(x) -> float:
     """Per-sample white-noise std of ``x`` from its third difference (robust MAD estimate)."""
     d = np.diff(np.asarray(x, float), 3)
     if d.size < 10:
         return 0.0
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(20.0))
+    return _mad_std(d) / float(np.sqrt(20.0))
+
+
+def _third_difference_std(x, k: int, jumps=None) -> float:
+    d = x[:-3 * k] - 3 * x[k:-2 * k] + 3 * x[2 * k:-k] - x[3 * k:]
+    if jumps is not None:
+        # leave out the differences whose span holds a jump of the signal (a step between
+        # set-points): at long lags they would be a large share, past what the MAD ignores
+        c = np.concatenate([[0], np.cumsum(jumps)])
+        ok = (c[3 * k + 1:] - c[:-3 * k - 1]) == 0
+        if ok.sum() >= max(10, d.size // 4):
+            d = d[ok]
+    return _mad_std(d) / np.sqrt(20.0)
+
+
+def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | None = 6.0):
+    """(lags, std, se): the third-difference noise estimate at lags of k samples
+    (``x[i] - 3x[i+k] + 3x[i+2k] - x[i+3k]``, robust MAD; lags 1, 2, 3, 4, 6, 8, ... up to
+    ``max_lag`` and a twelfth of a segment) and its standard error (spread over
+    ``segments`` contiguous parts). White noise gives the same std at every lag; noise correlated
+    over m samples (an averaged or low-passed sensor) is partly cancelled by the difference at lags
+    below m, so the estimate rises to the noise's full std there; a smooth signal adds a part
+    growing as k^3."""
+    x = np.asarray(x, float)
+    seg = x.size // segments
+    # jumps: lag-1 third differences beyond jump_std robust std (the white part's), where the
+    # signal steps (None: none are left out)
+    d1 = np.diff(x, 3)
+    s1 = _mad_std(d1)
+    jumps = np.zeros(x.size, bool)
+    if s1 > 0 and jump_std is not None:
+        big = np.flatnonzero(np.abs(d1 - np.median(d1)) > jump_std * s1)
+        jumps[big] = True
+    lags, sd, se = [], [], []
+    for k in (1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128):
+        if k > max_lag or 3 * k > seg // 4:
+            break
+        lags.append(k)
+        sd.append(_third_difference_std(x, k, jumps))
+        parts = [_third_difference_std(x[i * seg:(i + 1) * seg], k, jumps[i * seg:(i + 1) * seg])
+                 for i in range(segments)]
+        se.append(float(np.std(parts, ddof=1)) / np.sqrt(segments))
+    return np.array(lags, int), np.array(sd, float), np.array(se, float)
+
+
+def _third_difference_gain(k, phi):
+    """var of the lag-k third difference of a unit-variance AR(1) noise (coefficient phi) over 20."""
+    return 1.0 - (30.0 * phi ** k - 12.0 * phi ** (2 * k) + 2.0 * phi ** (3 * k)) / 20.0
+
+
+# colour is claimed when the AR(1) noise profile fits the lags better than white noise by this much
+# (chi-square units: a four-standard-error improvement)
+COLOUR_CHI2 = 16.0
+
+
+def torque_noise_std(x, jump_std: float | None = 6.0) -> tuple[float, float]:
+    """(std, phi): the per-sample noise std of ``x`` seen through its colour, and the AR(1)
+    coefficient of that colour (0: white, the estimate is then :func:`hf_noise_std`).
+
+    The :func:`noise_profile` variances are fitted (weighted by their standard errors) by
+    ``sigma^2*g(k, phi) + c*k^6``: a first-order low-passed (AR(1)) noise, whose lag-k third
+    difference has variance ``20*sigma^2*g`` (g rises from 1 - 0.9*phi to 1 as k passes the
+    correlation length), plus a smooth signal's part. Colour is claimed only when the best phi
+    beats phi = 0 by :data:`COLOUR_CHI2`; a drive's averaged torque (TRO2021) is such a noise."""
+    from scipy.optimize import nnls
+
+    white = hf_noise_std(x)
+    lags, sd, se = noise_profile(x, jump_std=jump_std)
+    if lags.size < 3 or white <= 0:
+        return white, 0.0
+    v = sd ** 2
+    sv = np.maximum(2.0 * sd * se, 1e-3 * v)  # std error of each variance
+    k = lags.astype(float)
+
+    def fit(phi):
+        A = np.column_stack([_third_difference_gain(k, phi), (k / k[-1]) ** 6]) / sv[:, None]
+        coef, rnorm = nnls(A, v / sv)
+        return rnorm ** 2, coef[0]
+
+    chi0, _ = fit(0.0)
+    # only colours whose plateau the profile shows (g >= 0.9 from half the largest lag on): a longer
+    # correlation would be an extrapolation, so the estimate stays a lower bound there
+    phis = [phi for phi in 1.0 - np.logspace(-3.0, 0.0, 61)[:-1]
+            if _third_difference_gain(k[-1] / 2.0, phi) >= 0.9]
+    if not phis:
+        return white, 0.0
+    best = min((fit(phi) + (phi,) for phi in phis), key=lambda r: r[0])
+    if chi0 - best[0] < COLOUR_CHI2 or best[1] <= white ** 2:
+        return white, 0.0
+    return float(np.sqrt(best[1])), float(best[2])
 
 
 def quantisation_step(x) -> float:
@@ -40,8 +135,9 @@ def quantisation_step(x) -> float:
 class Conditioning:
     """How the kinematics were conditioned, and the noise estimated from the data.
 
-    ``torque_noise`` [torque unit], ``velocity_noise`` of the velocity column (0 when there is none)
-    and ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
+    ``torque_noise`` [torque unit] (its colour ``torque_noise_colour``: the AR(1) coefficient
+    fitted by :func:`torque_noise_std`, 0 for white noise), ``velocity_noise`` of the velocity
+    column (0 when there is none) and ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
     ``recording`` (used as loaded: already smooth enough), ``velocity`` (the column, Savitzky-Golay
     smoothed) or ``position`` (Savitzky-Golay derivatives of the position); ``window`` in samples
     (polynomial order 3); ``accel_noise`` and ``velocity_noise_after``: per-sample noise std of the
@@ -60,6 +156,7 @@ class Conditioning:
     velocity_noise_after: float
     accel_noise: float = 0.0
     unresolved_fraction: float = 0.0
+    torque_noise_colour: float = 0.0
     velocity_measured: bool = True
     position_measured: bool = True
 
@@ -105,7 +202,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     dt = float(np.median(np.diff(t)))
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
-    st = hf_noise_std(rec.torque)
+    st, st_phi = torque_noise_std(rec.torque)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
@@ -142,8 +239,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
             if best is None or mse < best[0]:
                 best = (mse, source, W, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
     _, source, W, sig_v, sig_a, a2, sig_d = best
-    common = dict(torque_noise=st, velocity_noise=sv, position_noise=float(sp), quantisation=q,
-                  accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
+    common = dict(torque_noise=st, torque_noise_colour=st_phi, velocity_noise=sv, position_noise=float(sp),
+                  quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1

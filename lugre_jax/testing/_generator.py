@@ -63,7 +63,10 @@ class Sensors:
     """Sampling and measurement noise: ``fs`` [Hz]; torque noise std [N*m]; velocity noise std
     [deg/s]; position quantisation step [deg] (0: none); ``velocity_column`` False leaves the
     velocity out (a position-only encoder), ``position_column`` False the position (a tachometer
-    only); the recording then derives the missing one."""
+    only); the recording then derives the missing one. ``torque_noise_hz`` > 0 colours the torque
+    noise: white noise through a first-order low-pass of that corner frequency [Hz] (discretised
+    exactly, an AR(1) sequence), scaled to std ``torque_noise`` (a drive's averaged or filtered
+    current); 0: white."""
 
     fs: float = 200.0
     torque_noise: float = 0.08
@@ -71,6 +74,7 @@ class Sensors:
     quantisation: float = 0.0005
     velocity_column: bool = True
     position_column: bool = True
+    torque_noise_hz: float = 0.0
 
     def __post_init__(self):
         if not (self.velocity_column or self.position_column):
@@ -555,7 +559,15 @@ def generate(excitation: Excitation | None = None, effects=(), plant: Plant | No
     for i, (t, yy) in enumerate(zip(ts, Y)):
         u[i], vr[i], acc[i], _, _, fr[i] = rhs.parts(t, yy, modes[i])
     rng = np.random.default_rng(seed)
-    tau = u + sens.torque_noise * rng.standard_normal(ts.size)
+    e = rng.standard_normal(ts.size)
+    if sens.torque_noise_hz > 0:
+        from scipy.signal import lfilter
+
+        phi = float(np.exp(-2.0 * np.pi * sens.torque_noise_hz / sens.fs))
+        # stationary AR(1) of unit variance: the first sample drawn from the stationary law
+        e[0] /= np.sqrt(1.0 - phi ** 2)
+        e = lfilter([np.sqrt(1.0 - phi ** 2)], [1.0, -phi], e)
+    tau = u + sens.torque_noise * e
     vel = Y[:, 1] + sens.velocity_noise * rng.standard_normal(ts.size) if sens.velocity_column else None
     pos = Y[:, 0]
     if sens.quantisation > 0:
