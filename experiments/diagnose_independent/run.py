@@ -155,10 +155,8 @@ def _cache_path(job, cache):
     resolved to their parameters) and the generator's source, so any change to either regenerates."""
     if cache is None:
         return None
-    from lugre_jax.testing import _generator
-
     spec = json.dumps({**job, "effects_params": [repr(e) for e in effects_of(job)]}, sort_keys=True, default=str)
-    h = hashlib.sha256((spec + inspect.getsource(_generator)).encode()).hexdigest()[:16]
+    h = hashlib.sha256((spec + inspect.getsource(inspect.getmodule(T.generate))).encode()).hexdigest()[:16]
     return Path(cache) / f"{job['key']}_{h}.pkl"
 
 
