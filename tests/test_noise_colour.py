@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from lugre_jax.diagnose._condition import hf_noise_std, torque_noise_std
+from lugre_jax.diagnose._condition import hf_noise_std, noise_estimate_open, torque_noise_std
 
 N = 20_000
 
@@ -57,3 +57,15 @@ def test_steps_between_set_points_are_not_colour():
     sd, _ = torque_noise_std(x)
     assert abs(sd / 0.1 - 1) < 0.15, sd
     assert torque_noise_std(x, jump_std=None)[0] > 0.13
+
+
+def test_a_colour_past_the_profile_is_reported_open():
+    """AR(1) noise with phi 0.995 (a correlation of 200 samples, past the profile's 128 lags): the
+    estimate is below the true 0.1 and the profile is reported open (a lower bound); for white and
+    for phi 0.8 noise it is not. (A smooth signal that fills the longest lags opens it too: the
+    report says the floor *may* be a lower bound.)"""
+    x = 0.1 * _ar1(0.995)
+    sd, _ = torque_noise_std(x)
+    assert sd < 0.09 and noise_estimate_open(x, sd)
+    for y in (0.1 * np.random.default_rng(0).standard_normal(N), 0.1 * _ar1(0.8)):
+        assert not noise_estimate_open(y, torque_noise_std(y)[0])

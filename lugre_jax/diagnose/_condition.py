@@ -119,6 +119,14 @@ def torque_noise_std(x, jump_std: float | None = 6.0) -> tuple[float, float]:
     return float(np.sqrt(best[1])), float(best[2])
 
 
+def noise_estimate_open(x, std: float) -> bool:
+    """True when the :func:`noise_profile` of ``x`` still lies above ``std`` by more than 10 % (and
+    three standard errors) at its longest lag: a colour longer than the profile reaches, or the
+    signal there; either way ``std`` may be only a lower bound of the noise."""
+    _, prof, se = noise_profile(x)
+    return bool(prof.size >= 3 and prof[-1] - 3.0 * se[-1] > 1.1 * std)
+
+
 def quantisation_step(x) -> float:
     """The encoder step of a quantised signal (the most common smallest non-zero increment), or 0."""
     d = np.abs(np.diff(np.asarray(x, float)))
@@ -136,7 +144,9 @@ class Conditioning:
     """How the kinematics were conditioned, and the noise estimated from the data.
 
     ``torque_noise`` [torque unit] (its colour ``torque_noise_colour``: the AR(1) coefficient
-    fitted by :func:`torque_noise_std`, 0 for white noise), ``velocity_noise`` of the velocity
+    fitted by :func:`torque_noise_std`, 0 for white noise; ``torque_noise_open``: the noise profile
+    still rises past the estimate at its longest lag, so the estimate may be a lower bound),
+    ``velocity_noise`` of the velocity
     column (0 when there is none) and ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
     ``recording`` (used as loaded: already smooth enough), ``velocity`` (the column, Savitzky-Golay
     smoothed) or ``position`` (Savitzky-Golay derivatives of the position); ``window`` in samples
@@ -157,6 +167,7 @@ class Conditioning:
     accel_noise: float = 0.0
     unresolved_fraction: float = 0.0
     torque_noise_colour: float = 0.0
+    torque_noise_open: bool = False
     velocity_measured: bool = True
     position_measured: bool = True
 
@@ -203,6 +214,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
     st, st_phi = torque_noise_std(rec.torque)
+    st_open = noise_estimate_open(rec.torque, st)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
@@ -239,8 +251,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
             if best is None or mse < best[0]:
                 best = (mse, source, W, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
     _, source, W, sig_v, sig_a, a2, sig_d = best
-    common = dict(torque_noise=st, torque_noise_colour=st_phi, velocity_noise=sv, position_noise=float(sp),
-                  quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas, position_measured=pos_meas)
+    common = dict(torque_noise=st, torque_noise_colour=st_phi, torque_noise_open=st_open, velocity_noise=sv,
+                  position_noise=float(sp), quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas,
+                  position_measured=pos_meas)
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1

@@ -305,7 +305,10 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         kinematic_noise_nm=kin_noise, floor_ratio=ratio, at_floor=bool(ratio <= AT_FLOOR),
         shortcoming=None if ratio <= AT_FLOOR else (
             f"the baseline's validation RMSE is {ratio:.3g}x the estimated noise floor: located "
-            "structure may be the baseline's own misfit, not missing physics"),
+            "structure may be the baseline's own misfit, not missing physics"
+            + ("; the torque noise's profile still rises at its longest lag (colour longer than it "
+               "reaches, or the signal), so the floor may be only a lower bound"
+               if cond.torque_noise_open else "")),
         conditioning=cond.to_json(), unresolved_transient_fraction=float(unresolved.mean()))
     cext = {"position_resolution": max(cond.quantisation, cond.position_noise),
             "accel_bandwidth_hz": _sg_bandwidth(cond.window, scales["fs"]) if cond.source != "recording"
