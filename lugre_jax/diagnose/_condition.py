@@ -144,8 +144,9 @@ class Conditioning:
     """How the kinematics were conditioned, and the noise estimated from the data.
 
     ``torque_noise`` [torque unit] (its colour ``torque_noise_colour``: the AR(1) coefficient
-    fitted by :func:`torque_noise_std`, 0 for white noise; ``torque_noise_open``: the noise profile
-    still rises past the estimate at its longest lag, so the estimate may be a lower bound),
+    fitted by :func:`torque_noise_std`, 0 for white noise; ``torque_noise_open``: the noise is
+    coloured and its profile still rises past the estimate at its longest lag, so the estimate may
+    be a lower bound),
     ``velocity_noise`` of the velocity
     column (0 when there is none) and ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
     ``recording`` (used as loaded: already smooth enough), ``velocity`` (the column, Savitzky-Golay
@@ -214,7 +215,10 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
     st, st_phi = torque_noise_std(rec.torque)
-    st_open = noise_estimate_open(rec.torque, st)
+    # only where colour was claimed: a white estimate is read at lag 1, where the signal is absent,
+    # and the longest lags of a white recording hold the signal (measured: 14 of the 36 white null
+    # recordings and every issue recording would be flagged)
+    st_open = st_phi > 0 and noise_estimate_open(rec.torque, st)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
