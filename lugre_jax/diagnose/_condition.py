@@ -82,7 +82,7 @@ def _third_difference_gain(k, phi):
 COLOUR_CHI2 = 16.0
 
 
-def torque_noise_std(x, jump_std: float | None = 6.0) -> tuple[float, float]:
+def torque_noise_std(x, jump_std: float | None = 6.0, profile=None) -> tuple[float, float]:
     """(std, phi): the per-sample noise std of ``x`` seen through its colour, and the AR(1)
     coefficient of that colour (0: white, the estimate is then :func:`hf_noise_std`).
 
@@ -90,11 +90,12 @@ def torque_noise_std(x, jump_std: float | None = 6.0) -> tuple[float, float]:
     ``sigma^2*g(k, phi) + c*k^6``: a first-order low-passed (AR(1)) noise, whose lag-k third
     difference has variance ``20*sigma^2*g`` (g rises from 1 - 0.9*phi to 1 as k passes the
     correlation length), plus a smooth signal's part. Colour is claimed only when the best phi
-    beats phi = 0 by :data:`COLOUR_CHI2`; a drive's averaged torque (TRO2021) is such a noise."""
+    beats phi = 0 by :data:`COLOUR_CHI2`; a drive's averaged torque (TRO2021) is such a noise.
+    ``profile``: the :func:`noise_profile` of ``x`` if already computed (with ``jump_std``)."""
     from scipy.optimize import nnls
 
     white = hf_noise_std(x)
-    lags, sd, se = noise_profile(x, jump_std=jump_std)
+    lags, sd, se = noise_profile(x, jump_std=jump_std) if profile is None else profile
     if lags.size < 3 or white <= 0:
         return white, 0.0
     v = sd ** 2
@@ -119,11 +120,11 @@ def torque_noise_std(x, jump_std: float | None = 6.0) -> tuple[float, float]:
     return float(np.sqrt(best[1])), float(best[2])
 
 
-def noise_estimate_open(x, std: float) -> bool:
-    """True when the :func:`noise_profile` of ``x`` still lies above ``std`` by more than 10 % (and
-    three standard errors) at its longest lag: a colour longer than the profile reaches, or the
-    signal there; either way ``std`` may be only a lower bound of the noise."""
-    _, prof, se = noise_profile(x)
+def noise_estimate_open(x, std: float, profile=None) -> bool:
+    """True when the :func:`noise_profile` of ``x`` (or the one given) still lies above ``std`` by
+    more than 10 % (and three standard errors) at its longest lag: a colour longer than the profile
+    reaches, or the signal there; either way ``std`` may be only a lower bound of the noise."""
+    _, prof, se = noise_profile(x) if profile is None else profile
     return bool(prof.size >= 3 and prof[-1] - 3.0 * se[-1] > 1.1 * std)
 
 
@@ -214,11 +215,12 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     dt = float(np.median(np.diff(t)))
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
-    st, st_phi = torque_noise_std(rec.torque)
+    profile = noise_profile(rec.torque)
+    st, st_phi = torque_noise_std(rec.torque, profile=profile)
     # only where colour was claimed: a white estimate is read at lag 1, where the signal is absent,
     # and the longest lags of a white recording hold the signal (measured: 14 of the 36 white null
     # recordings and every issue recording would be flagged)
-    st_open = st_phi > 0 and noise_estimate_open(rec.torque, st)
+    st_open = st_phi > 0 and noise_estimate_open(rec.torque, st, profile)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
