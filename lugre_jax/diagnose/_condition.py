@@ -147,9 +147,8 @@ class Conditioning:
     ``torque_noise`` [torque unit] (its colour ``torque_noise_colour``: the AR(1) coefficient
     fitted by :func:`torque_noise_std`, 0 for white noise; ``torque_noise_open``: the noise is
     coloured and its profile still rises past the estimate at its longest lag, so the estimate may
-    be a lower bound),
-    ``velocity_noise`` of the velocity
-    column (0 when there is none) and ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
+    be a lower bound), ``velocity_noise`` of the velocity column (0 when there is none) and
+    ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
     ``recording`` (used as loaded: already smooth enough), ``velocity`` (the column, Savitzky-Golay
     smoothed) or ``position`` (Savitzky-Golay derivatives of the position); ``window`` in samples
     (polynomial order 3); ``accel_noise`` and ``velocity_noise_after``: per-sample noise std of the
@@ -303,17 +302,13 @@ def _inverse_residual_ms(v, a, torque, keep) -> float:
     """Mean squared residual of the linear inverse model ``J*a + Fc*sign(v) + sigma2*v + offset``
     plus a Stribeck term (its speed searched on a grid) on the ``keep`` samples: what one set of
     kinematics leaves unexplained, for comparing two sets on the same samples."""
+    from ._model import stribeck_ls_grid
+
     v, a, y = (np.asarray(x, float)[keep] for x in (v, a, torque))
     if y.size < 10:
         return float("inf")
     V = float(np.percentile(np.abs(v), 99)) or 1.0
-    cols = [a, np.sign(v), v, np.ones_like(v)]
-    best = float("inf")
-    for vs in V * np.logspace(-3, -0.3, 12):
-        X = np.column_stack(cols + [np.sign(v) * np.exp(-(v / vs) ** 2)])
-        b, *_ = np.linalg.lstsq(X, y, rcond=None)
-        best = min(best, float(np.mean((y - X @ b) ** 2)))
-    return best
+    return min(sse for _, _, sse in stribeck_ls_grid([a, np.sign(v), v, np.ones_like(v)], v, y, V)) / y.size
 
 
 def conditioned_kinematics(t, position, velocity, source: str, W: int):

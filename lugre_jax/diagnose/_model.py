@@ -449,6 +449,15 @@ def validation_mask(blocks: np.ndarray, every: int = 5, phase: int = 2) -> np.nd
 # Baseline construction
 
 
+def stribeck_ls_grid(cols, v, y, V: float):
+    """For each Stribeck speed vs on a grid (1e-3 to 0.5 of the speed scale ``V``): (vs, beta, SSE)
+    of the linear least squares of ``y`` on ``cols`` plus ``sign(v)*exp(-(v/vs)^2)`` (last)."""
+    for vs in V * np.logspace(-3, -0.3, 12):
+        X = np.column_stack(list(cols) + [np.sign(v) * np.exp(-(v / vs) ** 2)])
+        b, *_ = np.linalg.lstsq(X, y, rcond=None)
+        yield vs, b, float(np.sum((y - X @ b) ** 2))
+
+
 def initial_baseline(rec, friction: str = "lugre", fit_offset: bool = False) -> JointModel:
     """A starting baseline from linear least squares on ``J*a + Fc*sign(v) + sigma2*v (+ offset)``
     plus a 1-D search for the Stribeck velocity; sigma0 from a pre-sliding displacement of 1e-4 of
@@ -465,10 +474,7 @@ def initial_baseline(rec, friction: str = "lugre", fit_offset: bool = False) -> 
     if friction == "coulomb_viscous":
         return JointModel(jnp.asarray(J), CoulombViscous(Fc=Fc, sigma2=s2), jnp.asarray(off))
     best = (np.inf, Fc, Fc, 0.1 * sc["V"])
-    for vs in sc["V"] * np.logspace(-3, -0.3, 12):
-        Xs = np.column_stack(cols + [np.sign(v) * np.exp(-(v / vs) ** 2)])
-        b, *_ = np.linalg.lstsq(Xs, y, rcond=None)
-        sse = float(np.sum((y - Xs @ b) ** 2))
+    for vs, b, sse in stribeck_ls_grid(cols, v, y, sc["V"]):
         if sse < best[0] and b[1] > 0:
             best = (sse, b[1], b[1] + max(b[-1], 0.0), vs)
     _, Fc, Fs, vs = best
