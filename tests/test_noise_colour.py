@@ -50,13 +50,30 @@ def test_steps_between_set_points_are_not_colour():
     """AR(1) noise (phi 0.9, std 0.1) over 40 set-points of 500 samples with steps of 0.5-2 (5-20
     std): the differences spanning a step are left out, so the estimate stays within 15 % of 0.1
     (measured 0.089-0.094 over four seeds); counting them, the long lags see the steps as noise
-    (0.153)."""
+    (0.153; 0.119 with the per-lag outlier trim alone)."""
     rng = np.random.default_rng(3)
     levels = np.repeat(np.cumsum(rng.choice([-1, 1], 40) * rng.uniform(0.5, 2.0, 40)), 500)
     x = levels + 0.1 * _ar1(0.9)
     sd, _ = torque_noise_std(x)
     assert abs(sd / 0.1 - 1) < 0.15, sd
-    assert torque_noise_std(x, jump_std=None)[0] > 0.13
+    assert torque_noise_std(x, jump_std=None)[0] > 0.115
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_fast_resolved_reversals_are_not_colour(seed):
+    """White noise (std 0.05) on a position-sine tracking torque: a slow sine plus a 2-N*m change of
+    sign over ~8 samples at every reversal (the friction through its pre-sliding), every 300
+    samples. The change is no jump at lag 1, but the differences spanning it are a share of the
+    long lags that grows with the lag, as a colour's rise does; they are trimmed per lag, so no
+    colour is claimed and the estimate is within 5 % (without the trim: coloured, 19-38 % high,
+    the held-out recordings held_null08/09 of docs/diagnosis.md)."""
+    n = 12_000
+    i = np.arange(n)
+    reversal = np.tanh(np.sin(2 * np.pi * i / 600.0) * 600.0 / (2 * np.pi * 4.0))
+    x = 1.0 * reversal + 1.5 * np.sin(2 * np.pi * i / 600.0 + 1.2) + \
+        0.05 * np.random.default_rng(seed).standard_normal(n)
+    sd, phi = torque_noise_std(x)
+    assert phi == 0.0 and abs(sd / 0.05 - 1) < 0.05, (sd, phi)
 
 
 def test_a_colour_past_the_profile_is_reported_open():

@@ -44,6 +44,12 @@ from lugre_jax.diagnose import diagnose
 lugre_jax.configure()
 
 PAPER_LIKE = T.Plant(J=0.128, Fc=1.0, Fs=1.6, vs=0.2, sigma2=0.5, sigma0=100.0, sigma1=2.0)
+# plants of the held-out study only (never used to calibrate anything): a light joint with a sharp,
+# low Stribeck speed and a heavy one with a broad Stribeck dip
+LIGHT = T.Plant(J=0.04, Fc=0.5, Fs=0.9, vs=0.03, sigma2=2.0, sigma0=150.0, sigma1=0.8)
+HEAVY = T.Plant(J=0.4, Fc=2.0, Fs=3.0, vs=0.15, sigma2=0.8, sigma0=40.0, sigma1=3.0)
+PLANTS = {"issue": (T.Plant(), T.VelocityPI()), "paper_like": (PAPER_LIKE, T.VelocityPI(kp=4.0, ki=20.0)),
+          "light": (LIGHT, T.VelocityPI(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPI(kp=25.0, ki=150.0))}
 
 
 def null_settings(n: int = 32):
@@ -83,7 +89,42 @@ def null_settings(n: int = 32):
     return out
 
 
-def excitation_of(name: str, fs: float, seed: int, short: bool = False):
+def heldout_settings():
+    """A null set and issue-kind recordings that no threshold was calibrated on (eleventh session):
+    two further plants and controllers, sample rates, noise levels and excitation parameters off
+    the null study's grid, the paper's sine tracking, and issue #20's recording kind on two
+    further seeds (another level order and noise draw)."""
+    out = []
+    for k, (plant, exc, kw, fs, tn, vn, q, vcol) in enumerate([
+            ("light", "staircase", {"speeds": (0.005, 0.02, 0.08, 0.3, 1.2, 5.0), "dwell": 6.0}, 150.0, 0.04, 0.002, 0.0005, True),
+            ("light", "sine_sweep", {"amplitude": 1.0, "f0": 0.1, "f1": 3.0, "duration": 80.0}, 400.0, 0.12, 0.005, 0.001, False),
+            ("light", "multisine", {"amplitude": 3.0, "duration": 80.0}, 250.0, 0.3, 0.0, 0.002, True),
+            ("light", "staircase_sharp", {"dwell": 5.0}, 800.0, 0.05, 0.005, 0.0, False),
+            ("heavy", "staircase", {"speeds": (0.02, 0.05, 0.2, 0.6, 2.0, 6.0), "dwell": 7.0, "transition": 1.5}, 250.0, 0.12, 0.0, 0.001, True),
+            ("heavy", "sine_sweep", {"amplitude": 4.0, "f0": 0.03, "f1": 1.0, "duration": 90.0, "bias": 0.8}, 150.0, 0.04, 0.005, 0.0, True),
+            ("heavy", "multisine", {"amplitude": 1.5, "f0": 0.05, "f1": 2.5, "n": 8, "duration": 70.0}, 400.0, 0.3, 0.002, 0.0005, False),
+            ("heavy", "staircase_sharp", {"dwell": 5.0}, 150.0, 0.05, 0.0, 0.002, False),
+            ("issue", "position_sine", {"duration": 40.0}, 300.0, 0.08, 0.003, 0.0005, True),
+            ("paper_like", "position_sine", {"amplitude": 5.0, "frequency": 0.2, "duration": 60.0}, 120.0, 0.05, 0.0, 0.001, False),
+            ("issue", "staircase", {"dwell": 6.0}, 300.0, 0.15, 0.005, 0.0, True),
+            ("paper_like", "staircase", {"dwell": 6.0, "transition": 1.0}, 600.0, 0.06, 0.002, 0.0005, False)]):
+        out.append({"key": f"held_null{k:02d}", "plant": plant, "excitation": exc, "excitation_kw": kw, "fs": fs,
+                    "torque_noise": tn, "velocity_noise": vn, "quantisation": q, "velocity_column": vcol,
+                    "effects": [], "seed": 3000 + k})
+    for sd in (21, 22):
+        out += [{"key": f"held_issue_{k}_{sd}", "plant": "issue", "excitation": "staircase", "fs": 200.0,
+                 "torque_noise": 0.08, "velocity_noise": 0.003, "quantisation": 0.0005,
+                 "velocity_column": True, "effects": k, "seed": sd} for k in ISSUE_EFFECTS]
+    return out
+
+
+def excitation_of(name: str, fs: float, seed: int, short: bool = False, kw=None):
+    if kw:  # the held-out study's explicit parameters
+        cls = {"staircase": T.Staircase, "staircase_sharp": T.Staircase, "sine_sweep": T.SineSweep,
+               "multisine": T.Multisine, "position_sine": T.PositionSine}[name]
+        kw = dict(kw, **({"transition": 0.0} if name == "staircase_sharp" else {}))
+        kw = {k: tuple(v) if isinstance(v, list) else v for k, v in kw.items()}
+        return cls(**kw, **({"seed": seed} if cls is T.Staircase else {}))
     short = short or fs >= 500  # bound the sample count (and the generator's time)
     if name == "staircase":
         return T.Staircase(dwell=4.5 if short else 9.0, seed=seed)
@@ -127,6 +168,8 @@ CONCEALED = {
 def jobs(study: str, seeds, strengths):
     if study == "null":
         return null_settings()
+    if study == "heldout":
+        return heldout_settings()
     if study == "issue":
         return [{"key": f"issue_{k}", "plant": "issue", "excitation": "staircase", "fs": 200.0,
                  "torque_noise": 0.08, "velocity_noise": 0.003, "quantisation": 0.0005,
@@ -155,14 +198,16 @@ def _cache_path(job, cache):
     resolved to their parameters) and the generator's source, so any change to either regenerates."""
     if cache is None:
         return None
-    spec = json.dumps({**job, "effects_params": [repr(e) for e in effects_of(job)]}, sort_keys=True, default=str)
+    extra = {"effects_params": [repr(e) for e in effects_of(job)]}
+    if job["plant"] not in ("issue", "paper_like"):  # (the first two plants' keys predate this)
+        extra["plant_params"] = repr(PLANTS[job["plant"]])
+    spec = json.dumps({**job, **extra}, sort_keys=True, default=str)
     h = hashlib.sha256((spec + inspect.getsource(inspect.getmodule(T.generate))).encode()).hexdigest()[:16]
     return Path(cache) / f"{job['key']}_{h}.pkl"
 
 
 def run_one(job, top_k, cache=None):
-    plant = T.Plant() if job["plant"] == "issue" else PAPER_LIKE
-    ctrl = T.VelocityPI() if job["plant"] == "issue" else T.VelocityPI(kp=4.0, ki=20.0)
+    plant, ctrl = PLANTS[job["plant"]]
     sens = T.Sensors(fs=job["fs"], torque_noise=job["torque_noise"], velocity_noise=job["velocity_noise"],
                      quantisation=job["quantisation"], velocity_column=job["velocity_column"],
                      position_column=job.get("position_column", True),
@@ -173,7 +218,8 @@ def run_one(job, top_k, cache=None):
     if cached is not None and cached.exists():
         g = pickle.loads(cached.read_bytes())
     else:
-        g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"], job.get("short", False)), effs,
+        g = T.generate(excitation_of(job["excitation"], job["fs"], job["seed"], job.get("short", False),
+                                     job.get("excitation_kw")), effs,
                        plant, ctrl, sens, seed=job["seed"])
         if cached is not None:
             cached.parent.mkdir(parents=True, exist_ok=True)
@@ -204,7 +250,7 @@ def run_one(job, top_k, cache=None):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=("null", "issue", "proof"), required=True)
+    ap.add_argument("--study", choices=("null", "issue", "proof", "heldout"), required=True)
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
     ap.add_argument("--shard", default="0/1", help="i/n: run every n-th job starting at i")
     ap.add_argument("--seeds", default="11")
