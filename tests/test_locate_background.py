@@ -1,6 +1,7 @@
 """diagnose._locate's tests on synthetic residuals: the time periodogram's background (a red hump
-at the low end of a long residual is not a line, a narrow line still is), the friction-trend test
-and the friction-shape bands (their level, power and margins)."""
+at the low end of a long residual is not a line, a narrow line still is), the friction-trend test,
+the friction-shape bands (their level, power and margins) and the direction cross-correlation's
+margin."""
 
 from __future__ import annotations
 
@@ -147,3 +148,24 @@ def test_friction_shape_leaves_the_baselines_own_shapes():
     assert np.min(holm([x["p_value"] for x in _shape_tests(rec, r, 0.02)])) > 0.05
     bump = 0.008 * sv * (np.abs(av - levels[5]) < 1e-9)
     assert np.min(holm([x["p_value"] for x in _shape_tests(rec, r + bump, 0.02)])) < 1e-2
+
+
+def test_direction_cross_correlation_margin():
+    """The sign(v) cross-correlation with the binned means' margin (0.15 of the per-sample noise):
+    a residual 0.25 s behind the direction by 0.004 N*m (5 % of 0.08 N*m noise, as left by a baseline
+    at its floor, held-out recording held_null01) is located without the margin (z > 5) and not
+    with it; one of 0.03 N*m (above the margin) still is (z > 5)."""
+    from lugre_jax.diagnose._locate import RESOLUTION, xcorr_test
+
+    fs, n = 200.0, 40_000
+    t = np.arange(n) / fs
+    direction = np.sign(np.sin(2 * np.pi * 0.37 * t + 0.3))
+    noise = 0.08 * np.random.default_rng(5).standard_normal(n)
+    lag = int(0.25 * fs)
+    margin = RESOLUTION * 0.08
+    for c, located_with_margin in ((0.004, False), (0.03, True)):
+        r = noise + c * np.roll(direction, lag)
+        bare = xcorr_test(r, direction, int(0.5 * fs), int(5 * fs))
+        kept = xcorr_test(r, direction, int(0.5 * fs), int(5 * fs), margin_nm=margin)
+        assert bare["statistic"] > 5.0, (c, bare["statistic"])
+        assert (kept["statistic"] > 5.0) == located_with_margin, (c, kept["statistic"])

@@ -30,6 +30,59 @@ def load(path):
     return rows
 
 
+def null_table(null, title, figure):
+    """Markdown lines of an effect-free study (and its floor-ratio figure where ``figure`` is given)."""
+    lines = []
+    if not null:
+        return []
+    none = sum(r["verdict"] == "none" for r in null)
+    ratios = np.array([r["floor_ratio"] for r in null])
+    lines += [f"## {title} ({len(null)})", "",
+              f"`none` in {none}/{len(null)} ({100 * none / len(null):.0f} %); baseline validation RMSE / "
+              f"estimated noise floor: median {np.median(ratios):.3f}, max {ratios.max():.3f}; "
+              f"at most 1.1: {int(np.sum(ratios <= 1.1))}/{len(null)}; within 10 % either way (the floor "
+              f"neither under- nor overestimated): {int(np.sum(np.abs(ratios - 1) <= 0.1))}/{len(null)}", "",
+              "Torque noise: std, and the low-pass corner where it is coloured.", "",
+              "| key | plant | excitation | fs | torque noise | vel. noise | quant. | measured | n | "
+              "conditioning | unresolved | torque noise est. | kinematic noise est. | floor est. | ratio | verdict | s |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(null, key=lambda r: r["key"]):
+        c = r["conditioning"]
+        measured = "+".join(k for k, on in (("pos", r.get("position_column", True)),
+                                            ("vel", r["velocity_column"])) if on)
+        tn = c["torque_noise"]
+        eiv = float(np.sqrt(max(r["noise_floor"] ** 2 - tn ** 2, 0.0)))
+        hz = r.get("torque_noise_hz", 0.0)
+        tn_set = f"{r['torque_noise']}" + (f" ({hz:g} Hz)" if hz else "")
+        lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {tn_set} | "
+                     f"{r['velocity_noise']} | {r['quantisation']} | {measured} | "
+                     f"{r['n_samples']} | {c['source']} W={c['window']} | {c.get('unresolved_fraction', 0.0):.3f} | "
+                     f"{tn:.4f} | {eiv:.4f} | {r['noise_floor']:.4f} | "
+                     f"{r['floor_ratio']:.3f} | {r['verdict']} | {r['seconds_diagnose']:.0f} |")
+    lines.append("")
+    if figure is None:
+        return lines
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 3.5))
+    keys = [r["key"] for r in sorted(null, key=lambda r: r["key"])]
+    rr = [r["floor_ratio"] for r in sorted(null, key=lambda r: r["key"])]
+    col = ["C0" if r["verdict"] == "none" else "C3" for r in sorted(null, key=lambda r: r["key"])]
+    ax.bar(range(len(rr)), rr, color=col)
+    ax.axhline(1.1, color="k", ls="--", lw=0.8, label="10 % above / below the floor")
+    ax.axhline(0.9, color="k", ls="--", lw=0.8)
+    ax.set_ylim(min(0.85, min(rr) - 0.05), max(1.15, max(rr) + 0.02))
+    ax.set_xticks(range(len(rr)), keys, rotation=90, fontsize=7)
+    ax.set_ylabel("validation RMSE / noise floor")
+    ax.set_title("Effect-free independent recordings (blue: verdict none, red: anything else)")
+    ax.legend(fontsize=8)
+    save_figure(fig, figure)
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
@@ -37,52 +90,15 @@ def main():
     out = Path(a.out)
     null, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "proof"))
     issue = load(out / "issue_final" / "runs_issue.jsonl") or load(out / "runs_issue.jsonl")
-    lines = []
-    if null:
-        none = sum(r["verdict"] == "none" for r in null)
-        ratios = np.array([r["floor_ratio"] for r in null])
-        lines += [f"## Null recordings ({len(null)})", "",
-                  f"`none` in {none}/{len(null)} ({100 * none / len(null):.0f} %); baseline validation RMSE / "
-                  f"estimated noise floor: median {np.median(ratios):.3f}, max {ratios.max():.3f}; "
-                  f"at most 1.1: {int(np.sum(ratios <= 1.1))}/{len(null)}; within 10 % either way (the floor "
-                  f"neither under- nor overestimated): {int(np.sum(np.abs(ratios - 1) <= 0.1))}/{len(null)}", "",
-                  "Torque noise: std, and the low-pass corner where it is coloured.", "",
-                  "| key | plant | excitation | fs | torque noise | vel. noise | quant. | measured | n | "
-                  "conditioning | unresolved | torque noise est. | kinematic noise est. | floor est. | ratio | verdict | s |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-        for r in sorted(null, key=lambda r: r["key"]):
-            c = r["conditioning"]
-            measured = "+".join(k for k, on in (("pos", r.get("position_column", True)),
-                                                ("vel", r["velocity_column"])) if on)
-            tn = c["torque_noise"]
-            eiv = float(np.sqrt(max(r["noise_floor"] ** 2 - tn ** 2, 0.0)))
-            hz = r.get("torque_noise_hz", 0.0)
-            tn_set = f"{r['torque_noise']}" + (f" ({hz:g} Hz)" if hz else "")
-            lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {tn_set} | "
-                         f"{r['velocity_noise']} | {r['quantisation']} | {measured} | "
-                         f"{r['n_samples']} | {c['source']} W={c['window']} | {c.get('unresolved_fraction', 0.0):.3f} | "
-                         f"{tn:.4f} | {eiv:.4f} | {r['noise_floor']:.4f} | "
-                         f"{r['floor_ratio']:.3f} | {r['verdict']} | {r['seconds_diagnose']:.0f} |")
-        lines.append("")
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(9, 3.5))
-        keys = [r["key"] for r in sorted(null, key=lambda r: r["key"])]
-        rr = [r["floor_ratio"] for r in sorted(null, key=lambda r: r["key"])]
-        col = ["C0" if r["verdict"] == "none" else "C3" for r in sorted(null, key=lambda r: r["key"])]
-        ax.bar(range(len(rr)), rr, color=col)
-        ax.axhline(1.1, color="k", ls="--", lw=0.8, label="10 % above / below the floor")
-        ax.axhline(0.9, color="k", ls="--", lw=0.8)
-        ax.set_ylim(min(0.85, min(rr) - 0.05), max(1.15, max(rr) + 0.02))
-        ax.set_xticks(range(len(rr)), keys, rotation=90, fontsize=7)
-        ax.set_ylabel("validation RMSE / noise floor")
-        ax.set_title("Effect-free independent recordings (blue: verdict none, red: anything else)")
-        ax.legend(fontsize=8)
-        save_figure(fig, out / "null_floor_ratio.png")
-    for title, rows in (("Issue #20's recording kind", issue), ("Concealed level (proof)", proof)):
+    held = load(out / "heldout" / "runs_heldout.jsonl")
+    held_null = [r for r in held if r["key"].startswith("held_null")]
+    lines = null_table(null, "Null recordings", out / "null_floor_ratio.png")
+    lines += null_table(held_null, "Held-out null recordings (no threshold calibrated on them)", None)
+    for title, rows in (("Issue #20's recording kind", issue), ("Concealed level (proof)", proof),
+                        ("Held-out: issue #20's recording kind, seeds 21 and 22",
+                         [r for r in held if r["key"].startswith("held_issue")]),
+                        ("Held-out: effects on the new plants and excitations",
+                         [r for r in held if r["key"].startswith("held_effect")])):
         if not rows:
             continue
         ok = sum(r["correct"] for r in rows)

@@ -2,7 +2,7 @@
 :mod:`lugre_jax.testing` (closed-loop LuGre joint under a velocity PI, ``solve_ivp`` LSODA at
 rtol 1e-9), issue #20.
 
-Three studies (``--study``), each job appends one JSON line to ``<out>/runs.jsonl`` (resumable;
+Four studies (``--study``), each job appends one JSON line to ``<out>/runs.jsonl`` (resumable;
 ``--shard i/n`` splits the jobs across processes):
 
 * ``null``: effect-free recordings spanning the generator's settings (two plants, four excitations
@@ -14,7 +14,10 @@ Three studies (``--study``), each job appends one JSON line to ``<out>/runs.json
 * ``issue``: the recording kind of issue #20 (its plant, PI, 288-s staircase, 200 Hz, its noise) for
   the null case and gravity, asymmetry, ripple, drift and ripple + asymmetry at the issue's sizes;
 * ``proof``: each candidate (and two pairs) at the concealed level -- peak effect torque below the
-  per-sample torque noise -- on a 144-s staircase of the issue's kind, at strengths 1 and 0.5.
+  per-sample torque noise -- on a 144-s staircase of the issue's kind, at strengths 1 and 0.5;
+* ``heldout``: settings no threshold was calibrated on (:func:`heldout_settings`): two further
+  plants, off-grid rates, noise and excitation parameters, the paper's sine tracking, effects on
+  the new plants, and the issue's kind on seeds 21 and 22 (``<out>`` ``results/heldout``).
 
     python experiments/diagnose_independent/run.py --study null --shard 0/2
     python experiments/diagnose_independent/run.py --study issue
@@ -111,6 +114,18 @@ def heldout_settings():
         out.append({"key": f"held_null{k:02d}", "plant": plant, "excitation": exc, "excitation_kw": kw, "fs": fs,
                     "torque_noise": tn, "velocity_noise": vn, "quantisation": q, "velocity_column": vcol,
                     "effects": [], "seed": 3000 + k})
+    # effects on the new plants, about the issue's sizes relative to the noise (peak/noise ~1)
+    for k, (plant, exc, kw, fs, tn, vn, q, vcol, effect) in enumerate([
+            ("light", "staircase", {"speeds": (0.005, 0.02, 0.08, 0.3, 1.2, 5.0), "dwell": 6.0}, 150.0, 0.04, 0.002, 0.0005, True, "asymmetry"),
+            ("light", "sine_sweep", {"amplitude": 1.0, "f0": 0.1, "f1": 3.0, "duration": 80.0, "bias": 2.0}, 400.0, 0.05, 0.005, 0.001, False, "position_ripple"),
+            ("heavy", "staircase", {"speeds": (0.02, 0.05, 0.2, 0.6, 2.0, 6.0), "dwell": 7.0, "transition": 1.5}, 250.0, 0.12, 0.0, 0.001, True, "position_ripple"),
+            ("heavy", "multisine", {"amplitude": 1.5, "f0": 0.05, "f1": 2.5, "n": 8, "duration": 70.0}, 400.0, 0.1, 0.002, 0.0005, False, "asymmetry"),
+            ("heavy", "staircase_sharp", {"dwell": 5.0}, 150.0, 0.05, 0.0, 0.002, False, "stribeck_shape"),
+            ("paper_like", "staircase", {"dwell": 6.0, "transition": 1.0}, 600.0, 0.06, 0.002, 0.0005, False, "thermal_drift"),
+            ("light", "sine_sweep", {"amplitude": 1.0, "f0": 0.05, "f1": 1.0, "duration": 100.0, "bias": 3.0}, 300.0, 0.04, 0.002, 0.0, True, "gravity")]):
+        out.append({"key": f"held_effect{k:02d}_{effect}", "plant": plant, "excitation": exc, "excitation_kw": kw,
+                    "fs": fs, "torque_noise": tn, "velocity_noise": vn, "quantisation": q, "velocity_column": vcol,
+                    "effects": effect, "seed": 3100 + k})
     for sd in (21, 22):
         out += [{"key": f"held_issue_{k}_{sd}", "plant": "issue", "excitation": "staircase", "fs": 200.0,
                  "torque_noise": 0.08, "velocity_noise": 0.003, "quantisation": 0.0005,
@@ -146,6 +161,15 @@ ISSUE_EFFECTS = {
     "position_ripple": [T.PositionRipple(0.07, 7.5, 1.0)],
     "thermal_drift": [T.ThermalDrift(-0.04 / 288.0)],
     "position_ripple+asymmetry": [T.PositionRipple(0.07, 7.5, 1.0), T.Asymmetry(0.06)],
+}
+
+# the held-out effects (peak near the per-sample noise of their recordings)
+HELD_EFFECTS = {
+    "asymmetry": [T.Asymmetry(0.04)],
+    "position_ripple": [T.PositionRipple(0.06, 4.0, 0.3)],
+    "stribeck_shape": [T.StribeckShape(1.2)],
+    "thermal_drift": [T.ThermalDrift(-0.06 / 192.0)],
+    "gravity": [T.Gravity(0.05, 0.8)],
 }
 
 # concealed level (strength 1): the peak effect torque below the 0.08 N*m per-sample noise (the
@@ -188,6 +212,8 @@ def effects_of(job):
     e = job["effects"]
     if not e:
         return []
+    if job["key"].startswith("held_effect"):
+        return HELD_EFFECTS[e]
     if "strength" in job:
         return CONCEALED[e](job["strength"])
     return ISSUE_EFFECTS[e]
