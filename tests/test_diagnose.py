@@ -256,3 +256,45 @@ def test_emps_loader_reproduces_benchmark_idim(request):
     assert abs(fit["Fv"] / 203.5034 - 1) < 0.03
     assert abs(fit["Fc"] / 20.3935 - 1) < 0.05
     assert abs(fit["offset"] - (-3.1648)) < 0.2
+
+
+def test_validation_split_is_interleaved_and_not_locked_to_a_period():
+    """The held-out blocks: exactly one in each group of five consecutive 1-s blocks, the same split
+    on every call, and at every phase of a 5-s periodic excitation (a fixed phase put every held-out
+    second 2 s after a staircase step: the held-out study's Stribeck recording). Over 200 groups
+    each phase holds 40 +- 15 of them (binomial sd 5.7)."""
+    from lugre_jax.diagnose._model import block_ids, validation_mask
+
+    t = np.arange(0.0, 1000.0, 0.01)
+    blocks = block_ids(t)
+    val = validation_mask(blocks)
+    held = np.unique(blocks[val])
+    assert np.array_equal(np.bincount(held // 5, minlength=200), np.ones(200, int))
+    assert np.array_equal(val, validation_mask(blocks))
+    counts = np.bincount(held % 5, minlength=5)
+    assert np.all(np.abs(counts - 40) <= 15), counts
+
+
+def test_a_ripple_whose_gain_lives_at_one_speed_is_implausible():
+    """PositionRipple.implausible: over a staircase of four speeds, a residual that repeats with
+    position at every speed is accepted; one that oscillates only on the slowest plateau (a
+    baseline's stick-slip misfit, which a short-period 'ripple' can fit there and nowhere else:
+    the held-out recording held_effect00) is rejected with the speed-quartile reason."""
+    from types import SimpleNamespace
+
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose._physics import PositionRipple
+
+    fs, dwell = 200.0, 20.0
+    speeds = np.repeat([0.005, 0.05, 0.5, 3.0], int(dwell * fs))
+    theta = np.cumsum(speeds) / fs
+    noise = 0.04 * np.random.default_rng(0).standard_normal(theta.size)
+    kin = SimpleNamespace(theta=jnp.asarray(theta), v=jnp.asarray(speeds))
+    ripple = PositionRipple(jnp.asarray(0.02), jnp.asarray(0.08), jnp.asarray(1.0))
+    s = 0.02 * np.sin(2 * np.pi * theta / 0.08 + 1.0)
+    ctx = {"scales": {"P": float(theta[-1] - theta[0])}, "position_resolution": 0.0005, "kin": kin}
+    assert ripple.implausible(ctx | {"residual": s + noise}) is None
+    slow_only = np.where(speeds < 0.01, s, 0.0) + noise
+    why = ripple.implausible(ctx | {"residual": slow_only})
+    assert why is not None and "speed quartiles" in why, why
