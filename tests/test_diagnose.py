@@ -258,23 +258,6 @@ def test_emps_loader_reproduces_benchmark_idim(request):
     assert abs(fit["offset"] - (-3.1648)) < 0.2
 
 
-def test_validation_split_is_interleaved_and_not_locked_to_a_period():
-    """The held-out blocks: exactly one in each group of five consecutive 1-s blocks, the same split
-    on every call, and at every phase of a 5-s periodic excitation (a fixed phase put every held-out
-    second 2 s after a staircase step: the held-out study's Stribeck recording). Over 200 groups
-    each phase holds 40 +- 15 of them (binomial sd 5.7)."""
-    from lugre_jax.diagnose._model import block_ids, validation_mask
-
-    t = np.arange(0.0, 1000.0, 0.01)
-    blocks = block_ids(t)
-    val = validation_mask(blocks)
-    held = np.unique(blocks[val])
-    assert np.array_equal(np.bincount(held // 5, minlength=200), np.ones(200, int))
-    assert np.array_equal(val, validation_mask(blocks))
-    counts = np.bincount(held % 5, minlength=5)
-    assert np.all(np.abs(counts - 40) <= 15), counts
-
-
 def test_a_ripple_whose_gain_lives_at_one_speed_is_implausible():
     """PositionRipple.implausible: over a staircase of four speeds, a residual that repeats with
     position at every speed is accepted; one that oscillates only on the slowest plateau (a

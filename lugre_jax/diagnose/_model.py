@@ -440,15 +440,11 @@ def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25)
     return np.minimum(((t - t[0]) / block_s).astype(int), int(D / block_s))
 
 
-def validation_mask(blocks: np.ndarray, every: int = 5, seed: int = 0) -> np.ndarray:
-    """True on held-out samples: one time block in each ``every`` consecutive ones (interleaved, so
-    no regime is lost), at a phase drawn per group from a fixed seed (the split is reproducible).
-    A fixed phase locks onto an excitation whose period is a multiple of ``every`` blocks: on a
-    staircase with 5-s dwells every held-out second fell 2 s after a step, never in the transients
-    where a Stribeck shape shows (docs/diagnosis.md, held-out recordings)."""
-    group = np.asarray(blocks) // every
-    phase = np.random.default_rng(seed).integers(0, every, int(group.max()) + 1)
-    return (np.asarray(blocks) % every) == phase[group]
+def validation_mask(blocks: np.ndarray, every: int = 5, phase: int = 2) -> np.ndarray:
+    """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost).
+    The phase is fixed, so an excitation whose period is a multiple of ``every`` blocks is held out
+    at one phase only (docs/diagnosis.md: a phase drawn per group was tried and withdrawn)."""
+    return (blocks % every) == phase
 
 
 # ---------------------------------------------------------------------------------------------
