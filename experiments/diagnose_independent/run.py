@@ -138,7 +138,6 @@ def excitation_of(name: str, fs: float, seed: int, short: bool = False, kw=None)
         cls = {"staircase": T.Staircase, "staircase_sharp": T.Staircase, "sine_sweep": T.SineSweep,
                "multisine": T.Multisine, "position_sine": T.PositionSine}[name]
         kw = dict(kw, **({"transition": 0.0} if name == "staircase_sharp" else {}))
-        kw = {k: tuple(v) if isinstance(v, list) else v for k, v in kw.items()}
         return cls(**kw, **({"seed": seed} if cls is T.Staircase else {}))
     short = short or fs >= 500  # bound the sample count (and the generator's time)
     if name == "staircase":
