@@ -440,10 +440,14 @@ def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25)
     return np.minimum(((t - t[0]) / block_s).astype(int), int(D / block_s))
 
 
-def validation_mask(blocks: np.ndarray, every: int = 5, phase: int = 2) -> np.ndarray:
+VALIDATION_EVERY, VALIDATION_PHASE = 5, 2
+
+
+def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: int = VALIDATION_PHASE) -> np.ndarray:
     """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost).
     The phase is fixed, so an excitation whose period is a multiple of ``every`` blocks is held out
-    at one phase only (docs/diagnosis.md: a phase drawn per group was tried and withdrawn)."""
+    at one phase only; the baseline's floor ratio uses it, a candidate's held-out test crosses all
+    phases (docs/diagnosis.md: a phase drawn per group was tried and withdrawn)."""
     return (blocks % every) == phase
 
 

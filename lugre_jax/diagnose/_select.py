@@ -113,6 +113,32 @@ def _paired_block_test(r0, r1, blocks, val):
     return float(stats.norm.sf(d / sd))
 
 
+def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, max_steps) -> np.ndarray:
+    """Residual of ``model`` on every resolved sample, each predicted by a refit that did not see it:
+    the model is refitted (warm-started, by LM) without each phase of the interleaved blocks in
+    turn, and each phase's samples take the residual of the fit that left them out. The fixed
+    validation phase's fit is ``fixed_fit`` (already made). Five phases, not one, because an
+    excitation whose period is a multiple of five blocks shows one phase only the same part of
+    every period (a staircase's dwell middles, never its transitions)."""
+    out = np.zeros(keep.shape)
+    phase = blocks % M.VALIDATION_EVERY
+    for j in range(M.VALIDATION_EVERY):
+        fold = keep & (phase == j)
+        if j == M.VALIDATION_PHASE:
+            fitted = fixed_fit
+        elif specs:
+            space = M.FitSpace(specs)
+            fitted, _ = M.fit(M.clip_into(space, model), space, kin, tau, (keep & ~fold).astype(float),
+                              max_steps=max_steps)
+        else:
+            fitted = model
+        e = np.asarray(tau - M.predict(fitted, kin))
+        if not np.all(np.isfinite(e[fold])):  # a failed refit is infinitely bad, never a silent NaN
+            e = np.full(e.shape, np.inf)
+        out[fold] = e[fold]
+    return out
+
+
 def _identifiability(model, space, kin, tau, w, kappa, cand) -> float:
     """Largest |value - null| / standard error over the candidate's key parameters (joint fit)."""
     try:
@@ -319,6 +345,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
     while loc_cur["located"] and len(accepted) < max_effects:
         ctx = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev, cext)
+        r_cur_cv = None  # the current model's cross-validated residual, made once a trial needs it
         scored = []
         names = [n for n in pool if n not in [a.name for a in accepted]]
         it = tqdm(names, desc=f"score candidates (step {len(accepted) + 1})", disable=not progress, leave=False)
@@ -361,25 +388,36 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             kap1 = L.long_run_variance_factor(r1, blocks)
             bic1 = _bic(sse1, kap1, n_train, k1)
             dbic = bic1 - _bic(sse_cur, kap1, n_train, k_cur)
-            p_val = _paired_block_test(r_cur, r1, blocks, val)
             cand = fitted.candidates[-1]
             why = cand.implausible(ctx | {"baseline": fitted})
             zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand)
             if why is None and not zmax >= 3.0:
                 why = (f"not identifiable on this excitation: its parameters are within "
                        f"{zmax:.2g} standard errors of no effect")
+            # the held-out test, cross-validated over the five block phases; only for a trial that
+            # passed everything else (four refits each, of the trial and once per step of the model)
+            p_val = cv_cur = cv1 = None
+            if dbic < 0 and why is None:
+                if r_cur_cv is None:
+                    r_cur_cv = _cross_validated(current, _all_specs(current, scales, fit_offset, params is not None),
+                                                kin, tau, keep, blocks, current, max_steps)
+                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, fitted, max_steps)
+                p_val = _paired_block_test(r_cur_cv, r1_cv, blocks, keep) if np.all(np.isfinite(r1_cv)) else 1.0
+                cv_cur, cv1 = _val_rmse(r_cur_cv, keep), _val_rmse(r1_cv, keep)
             trials.append({"name": s["name"], "model": fitted, "r": r1, "k": k1, "sse": sse1, "bic": bic1,
                            "delta_bic": dbic, "kappa": kap1, "p_validation": p_val,
-                           "validation_rmse_nm": _val_rmse(r1, val), "fit": finfo,
-                           "identifiability_z": zmax, "rejected_because": why})
+                           "p_fixed_phase": _paired_block_test(r_cur, r1, blocks, val),
+                           "validation_rmse_nm": _val_rmse(r1, val), "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur,
+                           "fit": finfo, "identifiability_z": zmax, "rejected_because": why})
         steps_log.append({
             "step": len(accepted) + 1,
             "scores": [{"name": s["name"], "projected_sse_reduction": s["score"]} for s in scored],
-            "joint_refits": [{k: t[k] for k in ("name", "delta_bic", "p_validation", "validation_rmse_nm",
+            "joint_refits": [{k: t[k] for k in ("name", "delta_bic", "p_validation", "p_fixed_phase",
+                                                 "validation_rmse_nm", "cv_rmse_nm", "cv_rmse_before_nm",
                                                  "identifiability_z", "rejected_because")}
                              for t in trials]})
-        ok = [t for t in trials if t["delta_bic"] < 0 and t["p_validation"] < alpha
-              and t["validation_rmse_nm"] < _val_rmse(r_cur, val) and t["rejected_because"] is None]
+        ok = [t for t in trials if t["p_validation"] is not None and t["p_validation"] < alpha
+              and t["cv_rmse_nm"] < t["cv_rmse_before_nm"]]
         if not ok:
             break
         best = min(ok, key=lambda t: t["delta_bic"])
