@@ -17,7 +17,11 @@ Four studies (``--study``), each job appends one JSON line to ``<out>/runs.jsonl
   per-sample torque noise -- on a 144-s staircase of the issue's kind, at strengths 1 and 0.5;
 * ``heldout``: settings no threshold was calibrated on (:func:`heldout_settings`): two further
   plants, off-grid rates, noise and excitation parameters, the paper's sine tracking, effects on
-  the new plants, and the issue's kind on seeds 21 and 22 (``<out>`` ``results/heldout``).
+  the new plants, and the issue's kind on seeds 21 and 22 (``<out>`` ``results/heldout``);
+* ``fresh``: a second held-out set (:func:`fresh_settings`), fixed and committed before it was
+  first run (twelfth session), because every held-out row had by then been used to fix code: two
+  more plants, 10-s and 2.5-s dwells, 100-1,000 Hz, and one recording per candidate plus a pair
+  (``<out>`` ``results/fresh``).
 
     python experiments/diagnose_independent/run.py --study null --shard 0/2
     python experiments/diagnose_independent/run.py --study issue
@@ -51,8 +55,13 @@ PAPER_LIKE = T.Plant(J=0.128, Fc=1.0, Fs=1.6, vs=0.2, sigma2=0.5, sigma0=100.0, 
 # low Stribeck speed and a heavy one with a broad Stribeck dip
 LIGHT = T.Plant(J=0.04, Fc=0.5, Fs=0.9, vs=0.03, sigma2=2.0, sigma0=150.0, sigma1=0.8)
 HEAVY = T.Plant(J=0.4, Fc=2.0, Fs=3.0, vs=0.15, sigma2=0.8, sigma0=40.0, sigma1=3.0)
+# the fresh set's plants: stiff bristles with little damping and a low Stribeck speed; a nearly flat
+# Stribeck curve (Fs 1.13 Fc) with a high Stribeck speed
+MEDIUM = T.Plant(J=0.2, Fc=0.8, Fs=1.5, vs=0.05, sigma2=1.5, sigma0=300.0, sigma1=0.5)
+FLAT = T.Plant(J=0.08, Fc=1.5, Fs=1.7, vs=0.3, sigma2=0.3, sigma0=80.0, sigma1=2.0)
 PLANTS = {"issue": (T.Plant(), T.VelocityPI()), "paper_like": (PAPER_LIKE, T.VelocityPI(kp=4.0, ki=20.0)),
-          "light": (LIGHT, T.VelocityPI(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPI(kp=25.0, ki=150.0))}
+          "light": (LIGHT, T.VelocityPI(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPI(kp=25.0, ki=150.0)),
+          "medium": (MEDIUM, T.VelocityPI(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPI(kp=5.0, ki=30.0))}
 
 
 def null_settings(n: int = 32):
@@ -133,6 +142,48 @@ def heldout_settings():
     return out
 
 
+def fresh_settings():
+    """The second held-out set (twelfth session), fixed before its first run: eight effect-free
+    recordings and nine with effects at the issue's and the slow tests' sizes (one per candidate,
+    plus ripple + asymmetry), on two further plants (MEDIUM, FLAT), staircases with 10-s and 2.5-s
+    dwells (periods of whole multiples and halves of the five held-out blocks), 100-1,000 Hz."""
+    stair10 = {"speeds": (0.01, 0.04, 0.15, 0.6, 2.5), "dwell": 10.0}
+    sweep = {"amplitude": 2.0, "f0": 0.05, "f1": 1.5, "duration": 90.0, "bias": 0.5}
+    flat_sweep = {"amplitude": 3.0, "f0": 0.02, "f1": 0.8, "duration": 100.0, "bias": 1.0}
+    multi = {"amplitude": 1.0, "f0": 0.1, "f1": 2.0, "n": 6, "duration": 60.0}
+    sharp = {"speeds": (0.02, 0.1, 0.4, 1.5, 5.0), "dwell": 2.5}
+    issue10 = {"dwell": 10.0}
+    nulls = [
+        ("medium", "staircase", stair10, 180.0, 0.06, 0.002, 0.0005, True),
+        ("medium", "sine_sweep", sweep, 700.0, 0.1, 0.004, 0.001, False),
+        ("medium", "multisine", {"amplitude": 2.5, "f0": 0.03, "f1": 1.2, "n": 10, "duration": 90.0},
+         333.0, 0.04, 0.003, 0.0, True),
+        ("medium", "position_sine", {"amplitude": 8.0, "frequency": 0.1, "duration": 60.0}, 250.0, 0.05, 0.0,
+         0.0005, False),
+        ("flat", "staircase_sharp", sharp, 1000.0, 0.1, 0.003, 0.0005, True),
+        ("flat", "sine_sweep", flat_sweep, 180.0, 0.15, 0.0, 0.002, False),
+        ("flat", "multisine", multi, 500.0, 0.08, 0.005, 0.0005, True),
+        ("issue", "staircase", issue10, 100.0, 0.08, 0.003, 0.0005, True)]
+    effects = [
+        ("medium", "staircase", stair10, 180.0, 0.06, 0.002, 0.0005, True, "asymmetry"),
+        ("flat", "sine_sweep", flat_sweep, 180.0, 0.08, 0.0, 0.002, False, "gravity"),
+        ("issue", "staircase", issue10, 100.0, 0.08, 0.003, 0.0005, True, "position_ripple"),
+        ("flat", "staircase_sharp", sharp, 1000.0, 0.1, 0.003, 0.0005, True, "thermal_drift"),
+        ("medium", "staircase", stair10, 180.0, 0.06, 0.002, 0.0005, True, "stribeck_shape"),
+        ("flat", "multisine", multi, 500.0, 0.08, 0.005, 0.0005, True, "load_dependent"),
+        ("medium", "sine_sweep", sweep, 700.0, 0.1, 0.004, 0.001, False, "compliance"),
+        ("flat", "staircase", {**sharp, "transition": 0.5}, 180.0, 0.05, 0.002, 0.0005, True, "backlash"),
+        ("issue", "staircase", issue10, 100.0, 0.08, 0.003, 0.0005, True, "position_ripple+asymmetry")]
+    out = []
+    for kind, rows in (("null", [r + ("",) for r in nulls]), ("effect", effects)):
+        for k, (plant, exc, kw, fs, tn, vn, q, vcol, effect) in enumerate(rows):
+            out.append({"key": f"fresh_{kind}{k:02d}" + (f"_{effect}" if effect else ""), "plant": plant,
+                        "excitation": exc, "excitation_kw": kw, "fs": fs, "torque_noise": tn,
+                        "velocity_noise": vn, "quantisation": q, "velocity_column": vcol,
+                        "effects": effect or [], "seed": (4000 if kind == "null" else 4100) + k})
+    return out
+
+
 def excitation_of(name: str, fs: float, seed: int, short: bool = False, kw=None):
     if kw:  # the held-out study's explicit parameters
         cls = {"staircase": T.Staircase, "staircase_sharp": T.Staircase, "sine_sweep": T.SineSweep,
@@ -171,6 +222,20 @@ HELD_EFFECTS = {
     "gravity": [T.Gravity(0.05, 0.8)],
 }
 
+# the fresh set's effects: the issue's sizes (asymmetry, gravity, ripple) and the slow tests' (the
+# others; drift -8 % over the 50-s recording)
+FRESH_EFFECTS = {
+    "asymmetry": [T.Asymmetry(0.06)],
+    "gravity": [T.Gravity(0.15, 0.3)],
+    "position_ripple": [T.PositionRipple(0.08, 6.0, 2.0)],
+    "thermal_drift": [T.ThermalDrift(-0.08 / 50.0)],
+    "stribeck_shape": [T.StribeckShape(1.0)],
+    "load_dependent": [T.LoadDependent(0.15, 0.02)],
+    "compliance": [T.Compliance(3.0, 0.05, 0.04)],
+    "backlash": [T.Backlash(0.05, 0.3)],
+    "position_ripple+asymmetry": [T.PositionRipple(0.08, 6.0, 2.0), T.Asymmetry(0.06)],
+}
+
 # concealed level (strength 1): the peak effect torque below the 0.08 N*m per-sample noise (the
 # measured peak is recorded with every run)
 CONCEALED = {
@@ -193,6 +258,8 @@ def jobs(study: str, seeds, strengths):
         return null_settings()
     if study == "heldout":
         return heldout_settings()
+    if study == "fresh":
+        return fresh_settings()
     if study == "issue":
         return [{"key": f"issue_{k}", "plant": "issue", "excitation": "staircase", "fs": 200.0,
                  "torque_noise": 0.08, "velocity_noise": 0.003, "quantisation": 0.0005,
@@ -213,6 +280,8 @@ def effects_of(job):
         return []
     if job["key"].startswith("held_effect"):
         return HELD_EFFECTS[e]
+    if job["key"].startswith("fresh_effect"):
+        return FRESH_EFFECTS[e]
     if "strength" in job:
         return CONCEALED[e](job["strength"])
     return ISSUE_EFFECTS[e]
@@ -275,7 +344,7 @@ def run_one(job, top_k, cache=None):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=("null", "issue", "proof", "heldout"), required=True)
+    ap.add_argument("--study", choices=("null", "issue", "proof", "heldout", "fresh"), required=True)
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
     ap.add_argument("--shard", default="0/1", help="i/n: run every n-th job starting at i")
     ap.add_argument("--seeds", default="11")
