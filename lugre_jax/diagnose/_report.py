@@ -115,7 +115,8 @@ class Finding:
     candidate's ``describe()``, the same as in ``Diagnosis.improved.params``; for ``unexplained``:
     ``{"regions": [...]}``, the located regions left, as :meth:`Region.to_json`, at most 10);
     ``validation_rmse_nm``: held-out RMSE of the model at the step that accepted it (it and the
-    findings before it); ``delta_bic`` (< 0) and ``p_validation`` (< alpha): the evidence it was
+    findings before it, on the fixed held-out phase); ``delta_bic`` (< 0) and ``p_validation``
+    (< alpha, the held-out test cross-validated over the five block phases): the evidence it was
     accepted on at that step (``None`` for ``unexplained``, which is not a fit).
     """
 

@@ -13,9 +13,10 @@ Pipeline (the joint model and friction are those of Li et al., Electronics 2020,
    exponent); accept the candidate with the largest BIC drop
    BIC if (a) BIC decreases, computed with the effective sample size N/kappa (kappa: long-run
    variance factor of the candidate model's residual) so that autocorrelated noise does not
-   inflate the evidence, and (b) the held-out validation error decreases
-   significantly (one-sided test of the held-out squared-error drop, noise variance estimated
-   cluster-robustly over validation blocks, p < alpha);
+   inflate the evidence, and (b) the held-out error decreases significantly, cross-validated
+   over the five phases of the interleaved time blocks (each phase's samples predicted by refits
+   of the candidate model and of the current one that left that phase out; one-sided test of the
+   squared-error drop, noise variance estimated cluster-robustly over the blocks, p < alpha);
 5. repeat from 2 on the new residual (greedy forward selection) until nothing is located or no
    candidate is accepted; structure that remains located is reported as ``unexplained``.
 """
@@ -322,7 +323,8 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
     recording = RecordingInfo(
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
-        validation="every 5th time block of ~%.3g %s held out (%d of %d samples)"
+        validation="every 5th time block of ~%.3g %s held out (%d of %d samples); a candidate's "
+                   "held-out test crosses all five phases"
                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
                       rec.units["time"], int(val.sum()), rec.n))
     baseline = Baseline(
