@@ -451,6 +451,36 @@ def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: in
     return (blocks % every) == phase
 
 
+def event_starts(mask: np.ndarray) -> np.ndarray:
+    """True where a run of ``mask`` begins (an event: a reversal, a burst of acceleration)."""
+    m = np.asarray(mask, bool)
+    return m & ~np.concatenate([[False], m[:-1]])
+
+
+def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
+                     default: int = VALIDATION_PHASE, max_share: float = 0.6, min_events: int = 5) -> int:
+    """The held-out phase of the interleaved blocks: ``default``, unless its blocks hold more than
+    ``max_share`` of some kind of event the fit must see (``events``: boolean masks of event
+    starts, e.g. reversals; kinds with fewer than ``min_events`` are not judged). Then the phase
+    whose largest share is least, the nearest to ``default`` on ties.
+
+    An excitation whose period is a multiple of ``every`` blocks puts its events in one phase: a
+    0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks every
+    reversal falls in the third block of five, and a fit on the other four never sees one. A
+    share of 0.6 where 0.2 is due is three times the expectation; aligned by chance, five events
+    reach it with probability 0.007."""
+    phase = np.asarray(blocks) % every
+    worst = np.zeros(every)
+    for ev in events:
+        ev = np.asarray(ev, bool)
+        n = int(ev.sum())
+        if n >= min_events:
+            worst = np.maximum(worst, np.bincount(phase[ev], minlength=every)[:every] / n)
+    if worst[default] <= max_share:
+        return default
+    return min(range(every), key=lambda j: (worst[j], abs(j - default), j))
+
+
 # ---------------------------------------------------------------------------------------------
 # Baseline construction
 

@@ -114,18 +114,18 @@ def _paired_block_test(r0, r1, blocks, val):
     return float(stats.norm.sf(d / sd))
 
 
-def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, max_steps) -> np.ndarray:
+def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, fixed_phase, max_steps) -> np.ndarray:
     """Residual of ``model`` on every resolved sample, each predicted by a refit that did not see it:
     the model is refitted (warm-started, by LM) without each phase of the interleaved blocks in
-    turn, and each phase's samples take the residual of the fit that left them out. The fixed
-    validation phase's fit is ``fixed_fit`` (already made). Five phases, not one, because an
-    excitation whose period is a multiple of five blocks shows one phase only the same part of
+    turn, and each phase's samples take the residual of the fit that left them out; the held-out
+    phase's (``fixed_phase``) fit is ``fixed_fit`` (already made). Five phases, not one, because
+    an excitation whose period is a multiple of five blocks shows one phase only the same part of
     every period (a staircase's dwell middles, never its transitions)."""
     out = np.zeros(keep.shape)
     phase = blocks % M.VALIDATION_EVERY
     for j in range(M.VALIDATION_EVERY):
         fold = keep & (phase == j)
-        if j == M.VALIDATION_PHASE:
+        if j == fixed_phase:
             fitted = fixed_fit
         elif specs:
             space = M.FitSpace(specs)
@@ -268,7 +268,12 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     blocks = M.block_ids(rec.time, block_s)
     # unresolved transients take no part: not in the fit, the validation or the tests
     keep = ~unresolved
-    val = M.validation_mask(blocks) & keep
+    since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
+    # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
+    # of acceleration (an excitation periodic in five blocks) away from the fit
+    phase = M.validation_phase(blocks, [keep & (since == 0),
+                                        M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > 0.2 * scales["A"]))])
+    val = M.validation_mask(blocks, phase=phase) & keep
     w = ((~val) & keep).astype(float)
     tau = np.asarray(rec.torque)
     n_train = int(w.sum())
@@ -278,7 +283,6 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             f"sampling and noise ({cond.source}, window {cond.window}); expected at least {MIN_RESOLVED} "
             "for the fit and a quarter of that held out: a slower or smoother excitation, or a velocity "
             "sensor, is needed")
-    since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
 
     # bristle path: the complementary one (conditioned velocity pulled to the position) or, where
     # the position was measured and smoothed, the measured position itself; which is better depends
@@ -323,10 +327,10 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
     recording = RecordingInfo(
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
-        validation="every 5th time block of ~%.3g %s held out (%d of %d samples); a candidate's "
+        validation="every 5th time block of ~%.3g %s held out, phase %d (%d of %d samples); a candidate's "
                    "held-out test crosses all five phases"
                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
-                      rec.units["time"], int(val.sum()), rec.n))
+                      rec.units["time"], phase, int(val.sum()), rec.n))
     baseline = Baseline(
         params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
         validation_rmse_nm=_val_rmse(r0, val), fit=info, noise_floor_nm=floor, torque_noise_nm=cond.torque_noise,
@@ -402,8 +406,8 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             if dbic < 0 and why is None:
                 if r_cur_cv is None:
                     r_cur_cv = _cross_validated(current, _all_specs(current, scales, fit_offset, params is not None),
-                                                kin, tau, keep, blocks, current, max_steps)
-                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, fitted, max_steps)
+                                                kin, tau, keep, blocks, current, phase, max_steps)
+                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, fitted, phase, max_steps)
                 p_val = _paired_block_test(r_cur_cv, r1_cv, blocks, keep) if np.all(np.isfinite(r1_cv)) else 1.0
                 cv_cur, cv1 = _val_rmse(r_cur_cv, keep), _val_rmse(r1_cv, keep)
             trials.append({"name": s["name"], "model": fitted, "r": r1, "k": k1, "sse": sse1, "bic": bic1,
