@@ -457,8 +457,11 @@ def event_starts(mask: np.ndarray) -> np.ndarray:
     return m & ~np.concatenate([[False], m[:-1]])
 
 
+MAX_EVENT_SHARE = 0.6
+
+
 def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
-                     default: int = VALIDATION_PHASE, max_share: float = 0.6, min_events: int = 5) -> int:
+                     default: int = VALIDATION_PHASE, max_share: float = MAX_EVENT_SHARE, min_events: int = 5) -> int:
     """The held-out phase of the interleaved blocks: ``default``, unless its blocks hold more than
     ``max_share`` of some kind of event the fit must see (``events``: boolean masks of event
     starts, e.g. reversals; kinds with fewer than ``min_events`` are not judged). Then the phase
@@ -469,6 +472,15 @@ def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
     reversal falls in the third block of five, and a fit on the other four never sees one. A
     share of 0.6 where 0.2 is due is three times the expectation; aligned by chance, five events
     reach it with probability 0.007."""
+    worst = event_shares(blocks, events, every, min_events)
+    if worst[default] <= max_share:
+        return default
+    return min(range(every), key=lambda j: (worst[j], abs(j - default), j))
+
+
+def event_shares(blocks: np.ndarray, events, every: int = VALIDATION_EVERY, min_events: int = 5) -> np.ndarray:
+    """Per block phase, the largest share of any kind of event (boolean masks of event starts)
+    that falls in it; kinds with fewer than ``min_events`` count as spread evenly (share 0)."""
     phase = np.asarray(blocks) % every
     worst = np.zeros(every)
     for ev in events:
@@ -476,9 +488,7 @@ def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
         n = int(ev.sum())
         if n >= min_events:
             worst = np.maximum(worst, np.bincount(phase[ev], minlength=every)[:every] / n)
-    if worst[default] <= max_share:
-        return default
-    return min(range(every), key=lambda j: (worst[j], abs(j - default), j))
+    return worst
 
 
 # ---------------------------------------------------------------------------------------------

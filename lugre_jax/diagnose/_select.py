@@ -114,16 +114,18 @@ def _paired_block_test(r0, r1, blocks, val):
     return float(stats.norm.sf(d / sd))
 
 
-def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, fixed_phase, max_steps) -> np.ndarray:
-    """Residual of ``model`` on every resolved sample, each predicted by a refit that did not see it:
-    the model is refitted (warm-started, by LM) without each phase of the interleaved blocks in
-    turn, and each phase's samples take the residual of the fit that left them out; the held-out
-    phase's (``fixed_phase``) fit is ``fixed_fit`` (already made). Five phases, not one, because
-    an excitation whose period is a multiple of five blocks shows one phase only the same part of
-    every period (a staircase's dwell middles, never its transitions)."""
+def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, fixed_phase, folds, max_steps) -> np.ndarray:
+    """Residual of ``model`` on the resolved samples of the block phases ``folds``, each predicted
+    by a refit that did not see it: the model is refitted (warm-started, by LM) without each phase
+    in turn, and each phase's samples take the residual of the fit that left them out; the held-out
+    phase's (``fixed_phase``) fit is ``fixed_fit`` (already made); 0 elsewhere. Several phases, not
+    one, because an excitation whose period is a multiple of five blocks shows one phase only the
+    same part of every period (a staircase's dwell middles, never its transitions); not a phase
+    that holds most of some kind of event, whose refit would not see it (a 10-s staircase's steps
+    all start a block of phase 0: without them the inertia is free)."""
     out = np.zeros(keep.shape)
     phase = blocks % M.VALIDATION_EVERY
-    for j in range(M.VALIDATION_EVERY):
+    for j in folds:
         fold = keep & (phase == j)
         if j == fixed_phase:
             fitted = fixed_fit
@@ -271,9 +273,13 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
     # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
     # of acceleration (an excitation periodic in five blocks) away from the fit
-    phase = M.validation_phase(blocks, [keep & (since == 0),
-                                        M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > 0.2 * scales["A"]))])
+    events = [keep & (since == 0),
+              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > 0.2 * scales["A"]))]
+    phase = M.validation_phase(blocks, events)
     val = M.validation_mask(blocks, phase=phase) & keep
+    # the phases a candidate's cross-validated test uses: those whose refit still sees every kind of event
+    folds = [j for j, sh in enumerate(M.event_shares(blocks, events)) if sh <= M.MAX_EVENT_SHARE or j == phase]
+    cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
     w = ((~val) & keep).astype(float)
     tau = np.asarray(rec.torque)
     n_train = int(w.sum())
@@ -406,10 +412,10 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             if dbic < 0 and why is None:
                 if r_cur_cv is None:
                     r_cur_cv = _cross_validated(current, _all_specs(current, scales, fit_offset, params is not None),
-                                                kin, tau, keep, blocks, current, phase, max_steps)
-                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, fitted, phase, max_steps)
-                p_val = _paired_block_test(r_cur_cv, r1_cv, blocks, keep) if np.all(np.isfinite(r1_cv)) else 1.0
-                cv_cur, cv1 = _val_rmse(r_cur_cv, keep), _val_rmse(r1_cv, keep)
+                                                kin, tau, keep, blocks, current, phase, folds, max_steps)
+                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, fitted, phase, folds, max_steps)
+                p_val = _paired_block_test(r_cur_cv, r1_cv, blocks, cv_mask) if np.all(np.isfinite(r1_cv)) else 1.0
+                cv_cur, cv1 = _val_rmse(r_cur_cv, cv_mask), _val_rmse(r1_cv, cv_mask)
             trials.append({"name": s["name"], "model": fitted, "r": r1, "k": k1, "sse": sse1, "bic": bic1,
                            "delta_bic": dbic, "kappa": kap1, "p_validation": p_val,
                            "p_fixed_phase": _paired_block_test(r_cur, r1, blocks, val),
