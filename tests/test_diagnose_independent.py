@@ -159,8 +159,9 @@ def test_held_out_phase_keeps_periodic_reversals_in_the_fit():
 
 
 def test_validation_phase_moves_only_off_concentrated_events():
-    """validation_phase: the fixed phase 2 unless it holds more than 0.6 of some kind of event
-    (five or more); then the least loaded phase, the nearest to 2 on ties."""
+    """validation_phase: the fixed phase 2 unless it holds more than 0.6 of some kind of event and
+    more than chance allows (binomial p < 0.001); then the least loaded phase, the nearest to 2 on
+    ties."""
     from lugre_jax.diagnose._model import block_ids, validation_phase
 
     t = np.arange(0.0, 100.0, 0.01)
@@ -168,7 +169,9 @@ def test_validation_phase_moves_only_off_concentrated_events():
     at = lambda times: np.isin(np.round(t, 2), np.round(times, 2))  # noqa: E731
     assert validation_phase(blocks, [at(np.arange(2.5, 100, 5.0))]) == 1  # all in phase 2
     assert validation_phase(blocks, [at(np.arange(0.5, 100, 1.0))]) == 2  # spread evenly
-    assert validation_phase(blocks, [at(np.arange(2.5, 20, 5.0))]) == 2  # only four: not judged
+    assert validation_phase(blocks, [at(np.arange(2.5, 20, 5.0))]) == 2  # four of four: p 0.0016
+    assert validation_phase(blocks, [at(np.arange(2.5, 25, 5.0))]) == 1  # five of five: p 0.0003
+    assert validation_phase(blocks, [at(np.array([2.5, 7.5, 12.5, 17.5, 20.5, 31.5]))]) == 2  # 4/6: p 0.017
     assert validation_phase(blocks, [at(np.arange(2.5, 100, 5.0)) | at(np.arange(1.5, 100, 5.0))]) == 2  # 0.5
     assert validation_phase(blocks, [at(np.arange(2.5, 100, 5.0)) | at(np.arange(1.5, 100, 25.0))]) == 3
 

@@ -1,5 +1,6 @@
 """Tables and figures of the independent-recording study (``run.py``): null recordings (verdict,
-baseline-to-floor ratio), issue #20's recording kind, and the concealed-level proof table.
+baseline-to-floor ratio), issue #20's recording kind, the concealed-level proof table, and the
+held-out and fresh held-out sets.
 
     python experiments/diagnose_independent/plot.py [--out experiments/diagnose_independent/results]
 
@@ -92,9 +93,17 @@ def main():
     issue = load(out / "issue_final" / "runs_issue.jsonl") or load(out / "runs_issue.jsonl")
     held = load(out / "heldout" / "runs_heldout.jsonl")
     held_null = [r for r in held if r["key"].startswith("held_null")]
+    fresh, first = (load(out / "fresh" / f) for f in ("runs_fresh.jsonl", "runs_fresh_firstpass.jsonl"))
     lines = null_table(null, "Null recordings", out / "null_floor_ratio.png")
     lines += null_table(held_null, "Held-out null recordings (no threshold calibrated on them)", None)
+    lines += null_table([r for r in first if r["key"].startswith("fresh_null")],
+                        "Fresh held-out null recordings, first run (on 82fb22d)", None)
+    lines += null_table([r for r in fresh if r["key"].startswith("fresh_null")],
+                        "Fresh held-out null recordings, final code", None)
     for title, rows in (("Issue #20's recording kind", issue), ("Concealed level (proof)", proof),
+                        ("Fresh held-out effects, first run (on 82fb22d)",
+                         [r for r in first if r["key"].startswith("fresh_effect")]),
+                        ("Fresh held-out effects, final code", [r for r in fresh if r["key"].startswith("fresh_effect")]),
                         ("Held-out: issue #20's recording kind, seeds 21 and 22",
                          [r for r in held if r["key"].startswith("held_issue")]),
                         ("Held-out: effects on the new plants and excitations",

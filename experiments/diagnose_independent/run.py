@@ -327,7 +327,7 @@ def run_one(job, top_k, cache=None):
     b = rep.baseline
     named = rep.named
     truth = sorted(e.id for e in effs)
-    row = {**job, "n_samples": rec.n, "verdict": rep.verdict, "named": named,
+    row = {**job, "n_samples": rec.n, "verdict": rep.verdict, "named": named, "validation": rep.recording.validation,
            "true_effects": truth, "true_peak_nm": float(np.max(np.abs(g.true["effect_torque"]))),
            "true_rms_nm": float(np.sqrt(np.mean(g.true["effect_torque"] ** 2))),
            "baseline_val_rmse": b.validation_rmse_nm, "noise_floor": b.noise_floor_nm,

@@ -457,38 +457,44 @@ def event_starts(mask: np.ndarray) -> np.ndarray:
     return m & ~np.concatenate([[False], m[:-1]])
 
 
-MAX_EVENT_SHARE = 0.6
+MAX_EVENT_SHARE = 0.6  # of a kind of event in one phase of five (0.2 due)
+EVENT_ALPHA = 1e-3  # and more than chance alignment allows (binomial, per kind)
 
 
-def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
-                     default: int = VALIDATION_PHASE, max_share: float = MAX_EVENT_SHARE, min_events: int = 5) -> int:
-    """The held-out phase of the interleaved blocks: ``default``, unless its blocks hold more than
-    ``max_share`` of some kind of event the fit must see (``events``: boolean masks of event
-    starts, e.g. reversals; kinds with fewer than ``min_events`` are not judged). Then the phase
-    whose largest share is least, the nearest to ``default`` on ties.
+def phases_holding_events(blocks: np.ndarray, events, every: int = VALIDATION_EVERY) -> tuple[np.ndarray, np.ndarray]:
+    """Per block phase: the largest share of any kind of event (``events``: boolean masks of event
+    starts) that falls in it, and whether that phase holds too many of some kind -- more than
+    ``MAX_EVENT_SHARE`` of them, and more than chance alignment allows (binomial tail below
+    ``EVENT_ALPHA``, so a handful of events is not judged: six reversals with four in one phase,
+    p 0.017, stay)."""
+    from scipy.stats import binom
 
-    An excitation whose period is a multiple of ``every`` blocks puts its events in one phase: a
-    0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks every
-    reversal falls in the third block of five, and a fit on the other four never sees one. A
-    share of 0.6 where 0.2 is due is three times the expectation; aligned by chance, five events
-    reach it with probability 0.007."""
-    worst = event_shares(blocks, events, every, min_events)
-    if worst[default] <= max_share:
-        return default
-    return min(range(every), key=lambda j: (worst[j], abs(j - default), j))
-
-
-def event_shares(blocks: np.ndarray, events, every: int = VALIDATION_EVERY, min_events: int = 5) -> np.ndarray:
-    """Per block phase, the largest share of any kind of event (boolean masks of event starts)
-    that falls in it; kinds with fewer than ``min_events`` count as spread evenly (share 0)."""
     phase = np.asarray(blocks) % every
-    worst = np.zeros(every)
+    worst, held = np.zeros(every), np.zeros(every, bool)
     for ev in events:
         ev = np.asarray(ev, bool)
         n = int(ev.sum())
-        if n >= min_events:
-            worst = np.maximum(worst, np.bincount(phase[ev], minlength=every)[:every] / n)
-    return worst
+        if n == 0:
+            continue
+        k = np.bincount(phase[ev], minlength=every)[:every]
+        worst = np.maximum(worst, k / n)
+        held |= (k > MAX_EVENT_SHARE * n) & (binom.sf(k - 1, n, 1.0 / every) < EVENT_ALPHA)
+    return worst, held
+
+
+def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
+                     default: int = VALIDATION_PHASE) -> int:
+    """The held-out phase of the interleaved blocks: ``default``, unless it holds too many of some
+    kind of event the fit must see (:func:`phases_holding_events`; e.g. the reversals); then the
+    phase whose largest share is least, the nearest to ``default`` on ties.
+
+    An excitation whose period is a multiple of ``every`` blocks puts its events in one phase: a
+    0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks every
+    reversal falls in the third block of five, and a fit on the other four never sees one."""
+    worst, held = phases_holding_events(blocks, events, every)
+    if not held[default]:
+        return default
+    return min(range(every), key=lambda j: (worst[j], abs(j - default), j))
 
 
 # ---------------------------------------------------------------------------------------------

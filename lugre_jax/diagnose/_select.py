@@ -278,7 +278,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     phase = M.validation_phase(blocks, events)
     val = M.validation_mask(blocks, phase=phase) & keep
     # the phases a candidate's cross-validated test uses: those whose refit still sees every kind of event
-    folds = [j for j, sh in enumerate(M.event_shares(blocks, events)) if sh <= M.MAX_EVENT_SHARE or j == phase]
+    folds = [j for j, h in enumerate(M.phases_holding_events(blocks, events)[1]) if not h or j == phase]
     cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
     w = ((~val) & keep).astype(float)
     tau = np.asarray(rec.torque)
@@ -334,9 +334,9 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     recording = RecordingInfo(
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
         validation="every 5th time block of ~%.3g %s held out, phase %d (%d of %d samples); a candidate's "
-                   "held-out test crosses all five phases"
+                   "held-out test crosses phases %s"
                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
-                      rec.units["time"], phase, int(val.sum()), rec.n))
+                      rec.units["time"], phase, int(val.sum()), rec.n, ", ".join(map(str, folds))))
     baseline = Baseline(
         params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
         validation_rmse_nm=_val_rmse(r0, val), fit=info, noise_floor_nm=floor, torque_noise_nm=cond.torque_noise,
