@@ -281,3 +281,22 @@ def test_a_ripple_whose_gain_lives_at_one_speed_is_implausible():
     slow_only = np.where(speeds < 0.01, s, 0.0) + noise
     why = ripple.implausible(ctx | {"residual": slow_only})
     assert why is not None and "speed quartiles" in why, why
+
+
+def test_a_gravity_that_is_flat_over_the_positions_is_implausible():
+    """Gravity.implausible: over 40 deg of travel around its crest, A*sin(theta + 1.23) varies by
+    2 % of its mean (the fresh set's ripple + asymmetry recording, where such a 'gravity' took the
+    asymmetry's constant torque by 9 BIC units): rejected as a constant torque. The issue's gravity
+    (phase -0.3: the sine's slope over the span) is mostly variation and stays plausible."""
+    from types import SimpleNamespace
+
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose._physics import Gravity
+
+    theta = np.concatenate([np.linspace(0.0, 39.6, 500), np.linspace(39.6, 0.0, 500)])  # the sine's crest
+    ctx = {"scales": {"P": float(np.ptp(theta)), "T": 5.0}, "rec": SimpleNamespace(position=theta)}
+    flat = Gravity(jnp.asarray(0.062), jnp.asarray(1.23))
+    why = flat.implausible(ctx)
+    assert why is not None and "constant torque" in why, why
+    assert Gravity(jnp.asarray(0.15), jnp.asarray(-0.3)).implausible(ctx) is None
