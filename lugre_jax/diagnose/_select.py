@@ -114,11 +114,11 @@ def _paired_block_test(r0, r1, blocks, val):
     return float(stats.norm.sf(d / sd))
 
 
-def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, fixed_phase, folds, max_steps) -> np.ndarray:
-    """Residual of ``model`` on the resolved samples of the block phases ``folds``, each predicted
-    by a refit that did not see it: the model is refitted (warm-started, by LM) without each phase
-    in turn, and each phase's samples take the residual of the fit that left them out; the held-out
-    phase's (``fixed_phase``) fit is ``fixed_fit`` (already made); 0 elsewhere. Several phases, not
+def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_phase, folds, max_steps) -> np.ndarray:
+    """Residual of ``model`` (fitted without the held-out phase ``fixed_phase``) on the resolved
+    samples of the block phases ``folds``, each predicted by a fit that did not see it: the model
+    is refitted (warm-started, by LM) without each other phase in turn, and each phase's samples
+    take the residual of the fit that left them out; 0 elsewhere. Several phases, not
     one, because an excitation whose period is a multiple of five blocks shows one phase only the
     same part of every period (a staircase's dwell middles, never its transitions); not a phase
     that holds most of some kind of event, whose refit would not see it (a 10-s staircase's steps
@@ -127,14 +127,11 @@ def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_fit, fixed_phas
     phase = blocks % M.VALIDATION_EVERY
     for j in folds:
         fold = keep & (phase == j)
-        if j == fixed_phase:
-            fitted = fixed_fit
-        elif specs:
+        fitted = model
+        if j != fixed_phase and specs:
             space = M.FitSpace(specs)
             fitted, _ = M.fit(M.clip_into(space, model), space, kin, tau, (keep & ~fold).astype(float),
                               max_steps=max_steps)
-        else:
-            fitted = model
         e = np.asarray(tau - M.predict(fitted, kin))
         if not np.all(np.isfinite(e[fold])):  # a failed refit is infinitely bad, never a silent NaN
             e = np.full(e.shape, np.inf)
@@ -412,8 +409,8 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
             if dbic < 0 and why is None:
                 if r_cur_cv is None:
                     r_cur_cv = _cross_validated(current, _all_specs(current, scales, fit_offset, params is not None),
-                                                kin, tau, keep, blocks, current, phase, folds, max_steps)
-                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, fitted, phase, folds, max_steps)
+                                                kin, tau, keep, blocks, phase, folds, max_steps)
+                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, phase, folds, max_steps)
                 p_val = _paired_block_test(r_cur_cv, r1_cv, blocks, cv_mask) if np.all(np.isfinite(r1_cv)) else 1.0
                 cv_cur, cv1 = _val_rmse(r_cur_cv, cv_mask), _val_rmse(r1_cv, cv_mask)
             trials.append({"name": s["name"], "model": fitted, "r": r1, "k": k1, "sse": sse1, "bic": bic1,
