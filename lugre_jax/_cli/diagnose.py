@@ -35,7 +35,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--candidates", help="comma-separated subset of candidate ids (default: all)")
     p.add_argument("--block-s", type=float, default=None,
                    help="length of the validation/cluster time blocks in seconds "
-                        "(default ~1 s, at least 25 blocks; every 5th block is held out; candidates are tested on all five phases)")
+                        "(default ~1 s, at least 25 blocks; every 5th block is held out; a candidate is "
+                        "cross-validated over the phases)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 

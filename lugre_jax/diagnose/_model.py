@@ -441,13 +441,15 @@ def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25)
 
 
 VALIDATION_EVERY, VALIDATION_PHASE = 5, 2
+# accelerations that identify the inertia (and, as events, must stay in the fit): above this share
+# of the recording's acceleration scale
+BIG_ACCELERATION = 0.2
 
 
 def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: int = VALIDATION_PHASE) -> np.ndarray:
-    """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost).
-    The phase is fixed, so an excitation whose period is a multiple of ``every`` blocks is held out
-    at one phase only; the baseline's floor ratio uses it, a candidate's held-out test crosses all
-    phases (docs/diagnosis.md: a phase drawn per group was tried and withdrawn)."""
+    """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost),
+    at ``phase`` (:func:`validation_phase` chooses it; docs/diagnosis.md: a phase drawn per group
+    was tried and withdrawn)."""
     return (blocks % every) == phase
 
 
@@ -638,7 +640,7 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
                                float(rough.offset))
     vs = float(np.clip(vs, 2e-4 * sc["V"], 0.9 * sc["V"]))
     rest = y - _stribeck_curve(v, Fc, max(Fs, Fc), vs, s2, off)
-    big = np.abs(a) > 0.2 * sc["A"]
+    big = np.abs(a) > BIG_ACCELERATION * sc["A"]
     J = float(np.dot(a[big], rest[big]) / max(np.dot(a[big], a[big]), 1e-300)) if big.sum() > 20 else float(rough.J)
     if not J > 0:
         J = float(rough.J)

@@ -271,7 +271,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
     # of acceleration (an excitation periodic in five blocks) away from the fit
     events = [keep & (since == 0),
-              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > 0.2 * scales["A"]))]
+              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
     phase = M.validation_phase(blocks, events)
     val = M.validation_mask(blocks, phase=phase) & keep
     # the phases a candidate's cross-validated test uses: those whose refit still sees every kind of event
