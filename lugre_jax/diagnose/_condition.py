@@ -202,9 +202,11 @@ def _gain(W, deriv, dt, order=3):
 RESOLVED_BIAS_SHARE = 0.5
 
 
-def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
+def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False):
     """Choose and condition the kinematics of ``rec``; returns (conditioned recording,
-    Conditioning, unresolved mask).
+    Conditioning, unresolved mask); with ``error_only``, the chosen window's estimated squared
+    torque error (below) only. ``choices``: (source, W) pairs to choose from (default: every
+    measured source and window).
 
     For each measured source (the velocity column; the position: ``rec.meta``'s
     ``velocity_measured`` / ``position_measured``) and each Savitzky-Golay window W (order 3), the
@@ -249,7 +251,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
     sharp = unresolved_transients(rec.velocity, sv) if vel_meas else np.zeros(rec.n, bool)
     best = None
     for source, sig, dv, x in sources:
-        for W in windows:
+        if choices is not None and source not in {c[0] for c in choices}:
+            continue
+        for W in windows if choices is None else [c[1] for c in choices if c[0] == source]:
             W2 = 2 * W - 1
             if W2 > rec.n // 2:
                 break
@@ -270,6 +274,10 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3):
             mse = J0 ** 2 * (4 * bias2 + noise2) + s2_0 ** 2 * sig_v ** 2
             if best is None or mse < best[0]:
                 best = (mse, source, W, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
+    if best is None:
+        raise ValueError(f"no window among {choices} can condition this recording")
+    if error_only:
+        return best[0]
     _, source, W, sig_v, sig_a, a2, sig_d = best
     common = dict(torque_noise=st, torque_noise_colour=st_phi, torque_noise_open=st_open, velocity_noise=sv,
                   position_noise=float(sp), quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas,

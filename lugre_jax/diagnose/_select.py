@@ -167,6 +167,12 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
     return specs
 
 
+# the window is chosen again for the fitted inertia, and the baseline refitted, when the first
+# window's estimated kinematic torque error exceeds the new one's by this share of the torque noise
+# variance (the floor would rise by ~2.5 %)
+RECHOOSE_SHARE = 0.05
+
+
 def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
                  rough=None, screen_steps: int = 25, max_steps: int = 200):
     """Multi-start LM fit of the baseline; returns (model, info, index of the kinematics used).
@@ -244,60 +250,85 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     if not 0.8 <= float(rough2.J) / max(float(rough.J), 1e-300) <= 1.25:
         rough = rough2
         crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
-    if not cond.position_measured:
-        # the path is the integral of the velocity: across a transient the sampling does not
-        # resolve, that integral is wrong by an unknown step, which the bristles keep until they
-        # have travelled a few relaxation lengths (pre-sliding travel, from the data)
-        from ._condition import forget_after
+    rec_in = rec
+    rechosen = None
+    # the window is chosen for an inertia; the first comes from a linear fit, which friction with
+    # bristle dynamics can throw far off (a multisine through zero speed: J < 0, clipped), so the
+    # fitted inertia chooses again, and a different window is fitted again (once)
+    for second in (False, True):
+        if not cond.position_measured:
+            # the path is the integral of the velocity: across a transient the sampling does not
+            # resolve, that integral is wrong by an unknown step, which the bristles keep until they
+            # have travelled a few relaxation lengths (pre-sliding travel, from the data)
+            from ._condition import forget_after
 
-        unresolved = forget_after(unresolved, crec.position,
-                                  3.0 * M.presliding_displacement(crec, float(rough.friction.Fs))
-                                  if hasattr(rough.friction, "Fs") else 0.0)
-    rec_in, rec = rec, crec
-    kin = M.kinematics_of(rec)
-    # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk.
-    # A quantised position's error is correlated for as long as the joint takes to cross a step,
-    # seconds at slow speed, and the bristles carry it further: with derivatives of a quantised
-    # position the cross-correlations with acceleration and jerk have no null distribution we can
-    # bound from the data, so they are not run (flags past their largest lag, 0.5 s)
-    flags = cond.window + 2 if cond.source != "recording" else 0
-    if cond.source == "position" and cond.quantisation > 0:
-        flags = int(round(0.5 / rec.dt)) + 1
-    scales = M.data_scales(rec)
-    blocks = M.block_ids(rec.time, block_s)
-    # unresolved transients take no part: not in the fit, the validation or the tests
-    keep = ~unresolved
-    since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
-    # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
-    # of acceleration (an excitation periodic in five blocks) away from the fit
-    events = [keep & (since == 0),
-              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
-    phase = M.validation_phase(blocks, events)
-    val = M.validation_mask(blocks, phase=phase) & keep
-    # the phases a candidate's cross-validated test uses: those whose refit still sees every kind of event
-    folds = [j for j, h in enumerate(M.phases_holding_events(blocks, events)[1]) if not h or j == phase]
-    cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
-    w = ((~val) & keep).astype(float)
-    tau = np.asarray(rec.torque)
-    n_train = int(w.sum())
-    if n_train < MIN_RESOLVED or int(val.sum()) < MIN_RESOLVED // 4:
-        raise ValueError(
-            f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
-            f"sampling and noise ({cond.source}, window {cond.window}); expected at least {MIN_RESOLVED} "
-            "for the fit and a quarter of that held out: a slower or smoother excitation, or a velocity "
-            "sensor, is needed")
+            unresolved = forget_after(unresolved, crec.position,
+                                      3.0 * M.presliding_displacement(crec, float(rough.friction.Fs))
+                                      if hasattr(rough.friction, "Fs") else 0.0)
+        rec = crec
+        kin = M.kinematics_of(rec)
+        # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk.
+        # A quantised position's error is correlated for as long as the joint takes to cross a step,
+        # seconds at slow speed, and the bristles carry it further: with derivatives of a quantised
+        # position the cross-correlations with acceleration and jerk have no null distribution we can
+        # bound from the data, so they are not run (flags past their largest lag, 0.5 s)
+        flags = cond.window + 2 if cond.source != "recording" else 0
+        if cond.source == "position" and cond.quantisation > 0:
+            flags = int(round(0.5 / rec.dt)) + 1
+        scales = M.data_scales(rec)
+        blocks = M.block_ids(rec.time, block_s)
+        # unresolved transients take no part: not in the fit, the validation or the tests
+        keep = ~unresolved
+        since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
+        # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
+        # of acceleration (an excitation periodic in five blocks) away from the fit
+        events = [keep & (since == 0),
+                  M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
+        phase = M.validation_phase(blocks, events)
+        val = M.validation_mask(blocks, phase=phase) & keep
+        # the phases a candidate's cross-validated test uses: those whose refit still sees every kind of event
+        folds = [j for j, h in enumerate(M.phases_holding_events(blocks, events)[1]) if not h or j == phase]
+        cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
+        w = ((~val) & keep).astype(float)
+        tau = np.asarray(rec.torque)
+        n_train = int(w.sum())
+        if n_train < MIN_RESOLVED or int(val.sum()) < MIN_RESOLVED // 4:
+            raise ValueError(
+                f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
+                f"sampling and noise ({cond.source}, window {cond.window}); expected at least {MIN_RESOLVED} "
+                "for the fit and a quarter of that held out: a slower or smoother excitation, or a velocity "
+                "sensor, is needed")
 
-    # bristle path: the complementary one (conditioned velocity pulled to the position) or, where
-    # the position was measured and smoothed, the measured position itself; which is better depends
-    # on the encoder step against the bristle stiffness, so the data decide (training SSE)
-    paths = {"complementary" if cond.source != "recording" else "measured": kin}
-    if cond.source != "recording" and cond.position_measured:
-        paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, rec, np.asarray(rec_in.position)))
-    base, info, k_path = fit_baseline(rec, list(paths.values()), w, scales, friction, fit_offset, params,
-                                      noise=cond.torque_noise)
-    path = list(paths)[k_path]
-    kin = paths[path]
-    info["bristle_path"] = path
+        # bristle path: the complementary one (conditioned velocity pulled to the position) or, where
+        # the position was measured and smoothed, the measured position itself; which is better depends
+        # on the encoder step against the bristle stiffness, so the data decide (training SSE)
+        paths = {"complementary" if cond.source != "recording" else "measured": kin}
+        if cond.source != "recording" and cond.position_measured:
+            paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, rec, np.asarray(rec_in.position)))
+        base, info, k_path = fit_baseline(rec, list(paths.values()), w, scales, friction, fit_offset, params,
+                                          noise=cond.torque_noise)
+        path = list(paths)[k_path]
+        kin = paths[path]
+        info["bristle_path"] = path
+        if second or params is not None:
+            break
+        J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
+        if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
+            break
+        crec2, cond2, unresolved2 = condition(rec_in, J_fit, s2_fit)
+        if (cond2.source, cond2.window) == (cond.source, cond.window):
+            break
+        # refitted only if the fitted inertia's window is better by a share of the torque noise
+        # variance that matters, not for the small shifts of window a small change of J brings
+        mse_old = condition(rec_in, J_fit, s2_fit, choices=[(cond.source, cond.window)], error_only=True)
+        mse_new = condition(rec_in, J_fit, s2_fit, choices=[(cond2.source, cond2.window)], error_only=True)
+        if mse_old - mse_new <= RECHOOSE_SHARE * cond.torque_noise ** 2:
+            break
+        rechosen = {"source": cond.source, "window": cond.window, "inertia": float(rough.J),
+                    "excess_error_nm": float(np.sqrt(mse_old - mse_new))}
+        crec, cond, unresolved = crec2, cond2, unresolved2
+    if rechosen is not None:
+        info["window_rechosen_from"] = rechosen
     tau_base = M.predict(base, kin)
     r0 = (tau - tau_base) * keep
     # the floor of an inverse model: the torque noise and what the kinematics' noise brings through
