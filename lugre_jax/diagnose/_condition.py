@@ -166,7 +166,7 @@ class Conditioning:
     ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
     ``recording`` (used as loaded: already smooth enough), ``velocity`` (the column, Savitzky-Golay
     smoothed) or ``position`` (Savitzky-Golay derivatives of the position); ``window`` in samples
-    (polynomial order 3); ``accel_noise`` and ``velocity_noise_after``: per-sample noise std of the
+    (polynomial ``order``, 3 or 5); ``accel_noise`` and ``velocity_noise_after``: per-sample noise std of the
     conditioned acceleration and velocity; ``accel_noise_torque``: what ``accel_noise`` means in
     torque for the inertia used to choose the window; ``unresolved_fraction``: share of samples
     where the kinematics are not resolved at this smoothing (left out of fit, validation and tests).
@@ -186,6 +186,7 @@ class Conditioning:
     torque_noise_open: bool = False
     velocity_measured: bool = True
     position_measured: bool = True
+    order: int = 3
 
     def to_json(self) -> dict:
         return dataclasses.asdict(self)
@@ -196,6 +197,11 @@ def _gain(W, deriv, dt, order=3):
     return float(np.linalg.norm(savgol_coeffs(W, order, deriv=deriv, delta=dt)))
 
 
+# Savitzky-Golay polynomial orders the window choice considers: order 5 has less bias at the same
+# noise near the excitation's top frequency (a multisine's top line, attenuated ~20 % by an order-3
+# window, was left in the residual; docs/diagnosis.md)
+ORDERS = (3, 5)
+
 # A sample's kinematics count as resolved when the smoothing bias bound there is below this share of
 # the torque noise; elsewhere (sharp transients seen through a long window) J*a is not known from
 # the samples, and the sample leaves the fit, the validation and the tests.
@@ -205,11 +211,11 @@ RESOLVED_BIAS_SHARE = 0.5
 def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False):
     """Choose and condition the kinematics of ``rec``; returns (conditioned recording,
     Conditioning, unresolved mask); with ``error_only``, the chosen window's estimated squared
-    torque error (below) only. ``choices``: (source, W) pairs to choose from (default: every
+    torque error (below) only. ``choices``: (source, W, order) triples to choose from (default: every
     measured source and window).
 
     For each measured source (the velocity column; the position: ``rec.meta``'s
-    ``velocity_measured`` / ``position_measured``) and each Savitzky-Golay window W (order 3), the
+    ``velocity_measured`` / ``position_measured``) each Savitzky-Golay window W and polynomial order (``ORDERS``), the
     torque error that the kinematics bring is estimated as ``J0^2*(4*bias_W^2 + noise_W^2) +
     s2_0^2*noise_v^2``: ``noise_W`` from the estimated per-sample noise through the filter's exact
     gain, ``bias_W^2`` from the change from W to 2W-1 less that change's own noise. The (source, W)
@@ -250,39 +256,40 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
 
     sharp = unresolved_transients(rec.velocity, sv) if vel_meas else np.zeros(rec.n, bool)
     best = None
+    options = [(source, W, order) for source, *_ in sources for order in ORDERS for W in windows if W > order + 1]
     for source, sig, dv, x in sources:
-        if choices is not None and source not in {c[0] for c in choices}:
-            continue
-        for W in windows if choices is None else [c[1] for c in choices if c[0] == source]:
+        for W, order in [(W, o) for s_, W, o in (options if choices is None else choices) if s_ == source]:
             W2 = 2 * W - 1
             if W2 > rec.n // 2:
-                break
-            aW = savgol_filter(x, W, 3, deriv=dv + 1, delta=dt)
-            a2 = savgol_filter(x, W2, 3, deriv=dv + 1, delta=dt)
-            hW = savgol_coeffs(W, 3, deriv=dv + 1, delta=dt)
-            hd = np.pad(hW, (W - 1) // 2) - savgol_coeffs(W2, 3, deriv=dv + 1, delta=dt)
+                continue
+            aW = savgol_filter(x, W, order, deriv=dv + 1, delta=dt)
+            a2 = savgol_filter(x, W2, order, deriv=dv + 1, delta=dt)
+            hW = savgol_coeffs(W, order, deriv=dv + 1, delta=dt)
+            hd = np.pad(hW, (W - 1) // 2) - savgol_coeffs(W2, order, deriv=dv + 1, delta=dt)
             noise2 = sig ** 2 * float(np.sum(hW ** 2))
-            # smoothing bias grows with the window (as W^4 for a smooth signal, slower at sharp
-            # steps): the bias at W is taken as a third of the change from W to 2W-1, that change
-            # less its own noise (conservative for smooth signals, where it is a fifteenth)
+            # smoothing bias grows with the window (as W^(order+1) for a smooth signal, slower at
+            # sharp steps and near the filter's cut-off): the bias at W is taken as a third of the
+            # change from W to 2W-1, that change less its own noise (for either order: near the
+            # cut-off, where the choice is made, the change is 1.5-7 times the bias, measured on
+            # noise-free study recordings; asymptotically 15 or 63 times)
             smooth = ~(maximum_filter1d(sharp.astype(np.int8), W2) > 0) if sharp.any() else slice(None)
             diff2 = max(float(np.mean((aW - a2)[smooth] ** 2)) - sig ** 2 * float(np.sum(hd ** 2)), 0.0)
             bias2 = diff2 / 9.0
-            sig_v = sig * _gain(W, dv, dt)
+            sig_v = sig * _gain(W, dv, dt, order)
             # bias counts four times: unlike noise it is structured, and the residual tests see it
             # (see docs/diagnosis.md: a window with twice the bias left a located after-reversal mean)
             mse = J0 ** 2 * (4 * bias2 + noise2) + s2_0 ** 2 * sig_v ** 2
             if best is None or mse < best[0]:
-                best = (mse, source, W, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
+                best = (mse, source, W, order, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
     if best is None:
         raise ValueError(f"no window among {choices} can condition this recording")
     if error_only:
         return best[0]
-    _, source, W, sig_v, sig_a, a2, sig_d = best
+    _, source, W, order, sig_v, sig_a, a2, sig_d = best
     common = dict(torque_noise=st, torque_noise_colour=st_phi, torque_noise_open=st_open, velocity_noise=sv,
                   position_noise=float(sp), quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas,
                   position_measured=pos_meas)
-    v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W)
+    v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W, order)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1
     bias_nm = np.abs(J0 * (a - a2)) / 3.0
@@ -297,7 +304,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
         # direction of motion is not known from the samples, so neither is the friction
         bad |= maximum_filter1d((np.abs(v) < q / (W * dt)).astype(np.int8), W) > 0
     # the recording's own derivatives: kept as loaded where the lightest velocity window wins
-    use_recording = vel_meas and q == 0 and source == "velocity" and W == windows[0]
+    use_recording = vel_meas and q == 0 and source == "velocity" and W == windows[0] and order == 3
     if vel_meas and q == 0 and not use_recording and rec.meta.get("acceleration_supplied", False):
         # an acceleration that came with the data (e.g. EMPS: computed upstream at ten times the
         # rate) has no window whose change measures its bias; the data decide between it and the
@@ -316,7 +323,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     extra["conditioning_bias_nm"] = bias_nm
     out = Recording(t, th, v, a, np.asarray(rec.torque, float), rec.units,
                     rec.source, extra, rec.meta)
-    info = Conditioning(source=source, window=int(W), accel_noise_torque=float(J0 * sig_a),
+    info = Conditioning(source=source, window=int(W), order=int(order), accel_noise_torque=float(J0 * sig_a),
                         velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
     return out, info, bad
 
@@ -334,9 +341,9 @@ def _inverse_residual_ms(v, a, torque, keep) -> float:
     return min(sse for _, _, sse in stribeck_ls_grid([a, np.sign(v), v, np.ones_like(v)], v, y, V)) / y.size
 
 
-def conditioned_kinematics(t, position, velocity, source: str, W: int):
+def conditioned_kinematics(t, position, velocity, source: str, W: int, order: int = 3):
     """(velocity, acceleration, bristle path) conditioned from ``source`` (``velocity`` or
-    ``position``) with an order-3 Savitzky-Golay window ``W``.
+    ``position``) with a Savitzky-Golay window ``W`` of polynomial order ``order``.
 
     The bristles follow the position path. A coarse encoder jerks z by sigma0*q at every step (see
     docs/diagnosis.md), and smoothing the quantised position makes the path wiggle; so the path is
@@ -348,11 +355,11 @@ def conditioned_kinematics(t, position, velocity, source: str, W: int):
     t = np.asarray(t, float)
     dt = float(np.median(np.diff(t)))
     if source == "velocity":
-        v = savgol_filter(velocity, W, 3)
-        a = savgol_filter(velocity, W, 3, deriv=1, delta=dt)
+        v = savgol_filter(velocity, W, order)
+        a = savgol_filter(velocity, W, order, deriv=1, delta=dt)
     else:
-        v = savgol_filter(position, W, 3, deriv=1, delta=dt)
-        a = savgol_filter(position, W, 3, deriv=2, delta=dt)
+        v = savgol_filter(position, W, order, deriv=1, delta=dt)
+        a = savgol_filter(position, W, order, deriv=2, delta=dt)
     pos = np.asarray(position, float)
     iv = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
     n_lp = max(1, int(4.0 / dt)) | 1
@@ -402,7 +409,7 @@ def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0)
     def build(p, v_in):
         if cond.source == "recording":
             return v_in, derive_kinematics(t, v_in), p
-        v, a, th = conditioned_kinematics(t, p, v_in, cond.source, cond.window)
+        v, a, th = conditioned_kinematics(t, p, v_in, cond.source, cond.window, cond.order)
         return v, a, (p if path == "measured" else th)
 
     return build(pos_syn, vel_syn), build(pos_ref, vel_ref)

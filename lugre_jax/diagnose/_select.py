@@ -316,15 +316,15 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
             break
         crec2, cond2, unresolved2 = condition(rec_in, J_fit, s2_fit)
-        if (cond2.source, cond2.window) == (cond.source, cond.window):
+        if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order):
             break
         # refitted only if the fitted inertia's window is better by a share of the torque noise
         # variance that matters, not for the small shifts of window a small change of J brings
-        mse_old = condition(rec_in, J_fit, s2_fit, choices=[(cond.source, cond.window)], error_only=True)
-        mse_new = condition(rec_in, J_fit, s2_fit, choices=[(cond2.source, cond2.window)], error_only=True)
+        mse_old = condition(rec_in, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
+        mse_new = condition(rec_in, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
         if mse_old - mse_new <= RECHOOSE_SHARE * cond.torque_noise ** 2:
             break
-        rechosen = {"source": cond.source, "window": cond.window, "inertia": float(rough.J),
+        rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
                     "excess_error_nm": float(np.sqrt(mse_old - mse_new))}
         crec, cond, unresolved = crec2, cond2, unresolved2
     if rechosen is not None:
@@ -377,7 +377,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                if cond.torque_noise_open else "")),
         conditioning=cond.to_json(), unresolved_transient_fraction=float(unresolved.mean()))
     cext = {"position_resolution": max(cond.quantisation, cond.position_noise),
-            "accel_bandwidth_hz": _sg_bandwidth(cond.window, scales["fs"]) if cond.source != "recording"
+            "accel_bandwidth_hz": _sg_bandwidth(cond.window, scales["fs"], cond.order) if cond.source != "recording"
             else 0.25 * scales["fs"]}
     current, r_cur, loc_cur, k_cur = base, r0, loc0, k0
     accepted, steps_log = [], []
@@ -500,10 +500,10 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                      improved=improved, selection_log=steps_log, seconds=time.time() - t_start, arrays=arrays)
 
 
-def _sg_bandwidth(W: int, fs: float) -> float:
-    """-3 dB frequency [Hz] of the order-3 Savitzky-Golay derivative of window W (Schafer 2011:
+def _sg_bandwidth(W: int, fs: float, order: int = 3) -> float:
+    """-3 dB frequency [Hz] of the Savitzky-Golay derivative of window W (Schafer 2011:
     f_c ~ (order + 1)/(3.2 W - 4.6) * fs/2 for the smoother; used as the bandwidth of the acceleration)."""
-    return float(4.0 / (3.2 * W - 4.6) * fs / 2)
+    return float((order + 1) / (3.2 * W - 4.6) * fs / 2)
 
 
 class _Proto:
