@@ -119,7 +119,6 @@ def _reversal_clock(t, v, v_dead):
 
 def reversal_info(t, v, V):
     since, direction = _reversal_clock(np.asarray(t), np.asarray(v), 0.005 * V)
-    n_rev = int(np.sum(np.diff(np.isfinite(since) & (since == 0)) > 0)) if since.size else 0
     n_rev = int(np.sum(since == 0))
     return since, direction, n_rev
 
