@@ -288,13 +288,12 @@ def effects_of(job):
 
 
 def _cache_path(job, cache):
-    """Where the generated recording of ``job`` is cached: keyed by the job's settings (effects
-    resolved to their parameters) and the generator's source, so any change to either regenerates."""
+    """Where the generated recording of ``job`` is cached: keyed by the job's settings (effects and
+    plant resolved to their parameters, controller included) and the generator's source, so any
+    change to either regenerates."""
     if cache is None:
         return None
-    extra = {"effects_params": [repr(e) for e in effects_of(job)]}
-    if job["plant"] not in ("issue", "paper_like"):  # (the first two plants' keys predate this)
-        extra["plant_params"] = repr(PLANTS[job["plant"]])
+    extra = {"effects_params": [repr(e) for e in effects_of(job)], "plant_params": repr(PLANTS[job["plant"]])}
     spec = json.dumps({**job, **extra}, sort_keys=True, default=str)
     h = hashlib.sha256((spec + inspect.getsource(inspect.getmodule(T.generate))).encode()).hexdigest()[:16]
     return Path(cache) / f"{job['key']}_{h}.pkl"
