@@ -38,6 +38,11 @@ from ._physics import CANDIDATES
 from ._report import Baseline, Diagnosis, DiagnosisArrays, Finding, Improved, RecordingInfo, Region
 
 
+def _friction(model, kin) -> np.ndarray:
+    """The model's friction torque per sample (the friction-trend test's regressor)."""
+    return np.asarray(M._parts(model, kin)[1])
+
+
 def _ctx(rec, model, kin, r, loc, scales, n_rev, extra=None):
     inertial, F, _ = (np.asarray(x) for x in M._parts(model, kin))
     return {**(extra or {}),"rec": rec, "kin": kin, "baseline": model, "residual": r, "scales": scales, "units": rec.units,
@@ -356,7 +361,7 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
     scales["noise"] = floor  # the tests' resolution margins are shares of the per-sample floor
-    loc0 = _mismatch(L.locate(rec, r0, blocks, scales, alpha, flags, keep), ratio <= AT_FLOOR)
+    loc0 = _mismatch(L.locate(rec, r0, blocks, scales, alpha, flags, keep, _friction(base, kin)), ratio <= AT_FLOOR)
     kappa = loc0["kappa"]
     k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
     recording = RecordingInfo(
@@ -468,7 +473,8 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
                                 delta_bic=best["delta_bic"], p_validation=best["p_validation"]))
         current, r_cur, k_cur = best["model"], best["r"], best["k"]
         sse_cur = best["sse"]
-        loc_cur = _mismatch(L.locate(rec, r_cur, blocks, scales, alpha, flags, keep),
+        loc_cur = _mismatch(L.locate(rec, r_cur, blocks, scales, alpha, flags, keep,
+                                     _friction(current, kin)),
                             _val_rmse(r_cur, val) <= AT_FLOOR * floor)
 
     located = tuple(Region.from_test(x) for x in loc0["located"])
