@@ -57,7 +57,7 @@ def null_table(null, title, figure):
         tn_set = f"{r['torque_noise']}" + (f" ({hz:g} Hz)" if hz else "")
         lines.append(f"| {r['key']} | {r['plant']} | {r['excitation']} | {r['fs']:.0f} | {tn_set} | "
                      f"{r['velocity_noise']} | {r['quantisation']} | {measured} | "
-                     f"{r['n_samples']} | {c['source']} W={c['window']} | {c.get('unresolved_fraction', 0.0):.3f} | "
+                     f"{r['n_samples']} | {c['source']} W={c['window']}{' order 5' if c.get('order', 3) == 5 else ''} | {c.get('unresolved_fraction', 0.0):.3f} | "
                      f"{tn:.4f} | {eiv:.4f} | {r['noise_floor']:.4f} | "
                      f"{r['floor_ratio']:.3f} | {r['verdict']} | {r['seconds_diagnose']:.0f} |")
     lines.append("")
