@@ -201,6 +201,11 @@ def _gain(W, deriv, dt, order=3):
 # noise near the excitation's top frequency (a multisine's top line, attenuated ~20 % by an order-3
 # window, was left in the residual; docs/diagnosis.md)
 ORDERS = (3, 5)
+# ...but its derivative passes a band of noise just below its cut-off; an order-5 window is
+# considered only where the acceleration noise it brings (J0 times its noise) is below this share
+# of the torque noise. Measured: where order 5 helped it was 0.26 at most; on a position-only
+# 120-Hz sine it was 0.93 (W 17) and the band showed as a 10.6-Hz time line ('unexplained')
+ORDER5_NOISE_SHARE = 0.5
 
 # A sample's kinematics count as resolved when the smoothing bias bound there is below this share of
 # the torque noise; elsewhere (sharp transients seen through a long window) J*a is not known from
@@ -262,11 +267,13 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
             W2 = 2 * W - 1
             if W2 > rec.n // 2:
                 continue
+            hW = savgol_coeffs(W, order, deriv=dv + 1, delta=dt)
+            noise2 = sig ** 2 * float(np.sum(hW ** 2))
+            if order > 3 and choices is None and J0 * np.sqrt(noise2) > ORDER5_NOISE_SHARE * st:
+                continue
             aW = savgol_filter(x, W, order, deriv=dv + 1, delta=dt)
             a2 = savgol_filter(x, W2, order, deriv=dv + 1, delta=dt)
-            hW = savgol_coeffs(W, order, deriv=dv + 1, delta=dt)
             hd = np.pad(hW, (W - 1) // 2) - savgol_coeffs(W2, order, deriv=dv + 1, delta=dt)
-            noise2 = sig ** 2 * float(np.sum(hW ** 2))
             # smoothing bias grows with the window (as W^(order+1) for a smooth signal, slower at
             # sharp steps and near the filter's cut-off): the bias at W is taken as a third of the
             # change from W to 2W-1, that change less its own noise (for either order: near the
