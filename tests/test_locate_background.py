@@ -181,11 +181,10 @@ def test_friction_trend_follows_the_friction_torque():
     (binomial P(>= 9) = 0.06)."""
     from lugre_jax.diagnose._locate import locate
     from lugre_jax.diagnose._model import block_ids
+    from lugre_jax.io import recording_from_arrays
 
     speeds = np.array([0.02, 0.1, 0.4, 1.5, 5.0])
     seq = np.concatenate([speeds, -speeds, speeds[[2, 4, 0, 3, 1]], -speeds[[2, 4, 0, 3, 1]]])
-    from lugre_jax.io import recording_from_arrays
-
     fs = 200.0
     v = np.repeat(seq, int(2.5 * fs))
     t = np.arange(v.size) / fs

@@ -201,10 +201,9 @@ def _gain(W, deriv, dt, order=3):
 # noise near the excitation's top frequency (a multisine's top line, attenuated ~20 % by an order-3
 # window, was left in the residual; docs/diagnosis.md)
 ORDERS = (3, 5)
-# ...but its derivative passes a band of noise just below its cut-off; an order-5 window is
-# considered only where the acceleration noise it brings (J0 times its noise) is below this share
-# of the torque noise. Measured: where order 5 helped it was 0.26 at most; on a position-only
-# 120-Hz sine it was 0.93 (W 17) and the band showed as a 10.6-Hz time line ('unexplained')
+# ...but its derivative passes a band of noise just below its cut-off, which the time periodogram
+# sees as a line; an order-5 window is considered only where the acceleration noise it brings
+# (J0 times its noise) is below this share of the torque noise (measurements: docs/diagnosis.md)
 ORDER5_NOISE_SHARE = 0.5
 
 # A sample's kinematics count as resolved when the smoothing bias bound there is below this share of
@@ -262,8 +261,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     sharp = unresolved_transients(rec.velocity, sv) if vel_meas else np.zeros(rec.n, bool)
     best = None
     options = [(source, W, order) for source, *_ in sources for order in ORDERS for W in windows if W > order + 1]
+    pool = options if choices is None else choices
     for source, sig, dv, x in sources:
-        for W, order in [(W, o) for s_, W, o in (options if choices is None else choices) if s_ == source]:
+        for W, order in [(W, o) for s_, W, o in pool if s_ == source]:
             W2 = 2 * W - 1
             if W2 > rec.n // 2:
                 continue

@@ -462,10 +462,9 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     tr = trend_test(r, shape * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep,
                     margin=RESOLUTION * float(scales.get("noise", 0.0)) / (0.5 * dur * max(size, 1e-300)))
     if tr is not None:
-        region = {"input": "sign(v)*(t - t_mid)", "slope": tr["slope"]}
+        region = {"input": "sign(v)*(t - t_mid)" if friction is None else "F*(t - t_mid)", "slope": tr["slope"]}
         if friction is not None:
-            region = {"input": "F*(t - t_mid)", "slope": tr["slope"],
-                      "relative_change_over_recording": tr["slope"] * dur}
+            region["relative_change_over_recording"] = tr["slope"] * dur
         tests.append({"test": "friction_trend", "region": region, "statistic": tr["statistic"],
                       "p_value": tr["p_value"]})
     lb = ljung_box(r, min_lag=max(1, filter_lags), margin=RESOLUTION ** 2 if scales.get("noise") else 0.0)
