@@ -191,6 +191,31 @@ def _foreign_folder(d: Path) -> str:
     return str(d / "mine")
 
 
+def _other_command_folder(d: Path) -> str:
+    """A finished result of another command (its MANIFEST.json names it)."""
+    _w(d, "theirs/MANIFEST.json", json.dumps({"complete": True, "meta": {"command": "reproduce"}, "files": {}}))
+    return str(d / "theirs")
+
+
+# A folder no file can be created in, even by root (a pseudo file system): the "read-only --out" tries.
+UNWRITABLE = "/proc"
+
+# A passive LuGre set (sigma2 >= sigma1 |Fs - Fc| / min(Fc, Fs) over the whole box).
+SWEEP_SPEC = {"scenario": dict(SCENARIO, friction={"model": "lugre", "Fc": 1.0, "Fs": 1.5, "vs": 0.05, "sigma0": 100.0,
+                                                   "sigma1": 1.0, "sigma2": 1.0}),
+              "problem": {"names": ["friction.Fc", "controller.kp"], "bounds": [[0.9, 1.1], [4, 16]]},
+              "sampler": "sobol", "n": 4, "seed": 0, "outputs": ["dead_zone"], "stepping": {"solver": "bosh3", "dt": 0.01}}
+
+
+def _sweep(d: Path, *extra: str, out: str | None = None, **kw) -> list[str]:
+    spec = dict(SWEEP_SPEC, **kw)
+    return ["sweep", _w(d, "spec.json", json.dumps(spec)), "--out", out or str(d / "out"), "--quiet", *extra]
+
+
+def _emps(d: Path, *extra: str, out: str | None = None) -> list[str]:
+    return ["emps", "--out", out or str(d / "out"), "--quiet", *extra]
+
+
 CASES: list[Case] = [
     # --- recording CSV (diagnose)
     Case("rec-undecodable", "recording: undecodable bytes (0xff)",
@@ -316,6 +341,35 @@ CASES: list[Case] = [
          lambda d: _simulate(d, _scen(duration_s=200000.0, solver={"method": "fixed"}))),
     Case("sim-step-budget", "simulate: 20000 s on the default adaptive stepping (beyond its max_steps)",
          lambda d: _simulate(d, _scen(duration_s=20000.0))),
+    Case("sim-out-unwritable", "simulate: --out in a folder nothing can be written to",
+         lambda d: _simulate(d, SCENARIO, out=f"{UNWRITABLE}/traj.csv")),
+    Case("sim-out-not-csv", "simulate: --out without .csv", lambda d: _simulate(d, SCENARIO, out=str(d / "traj.txt"))),
+    # --- every command: output paths checked before any work (same rule, same message)
+    Case("emps-out-file", "emps: --out is an existing file", lambda d: _emps(d, out=_existing_file(d))),
+    Case("emps-out-unwritable", "emps: --out in a folder nothing can be written to",
+         lambda d: _emps(d, out=f"{UNWRITABLE}/emps_out")),
+    Case("emps-out-foreign", "emps: --out a non-empty folder not made by emps", lambda d: _emps(d, out=_foreign_folder(d))),
+    Case("emps-out-other", "emps: --out holds another command's result (reproduce's MANIFEST.json)",
+         lambda d: _emps(d, out=_other_command_folder(d))),
+    Case("emps-data-folder", "emps: --data names a folder", lambda d: _emps(d, "--data", _existing_dir(d))),
+    Case("sweep-out-file", "sweep: --out is an existing file", lambda d: _sweep(d, out=_existing_file(d))),
+    Case("sweep-out-unwritable", "sweep: --out in a folder nothing can be written to",
+         lambda d: _sweep(d, out=f"{UNWRITABLE}/sweep_out")),
+    Case("sweep-out-foreign", "sweep: --out a non-empty folder that is not a sweep", lambda d: _sweep(d, out=_foreign_folder(d))),
+    Case("sweep-huge-n", 'sweep: "n" 1073741824 (32 GiB of samples)', lambda d: _sweep(d, n=2 ** 30)),
+    Case("sweep-max-chunks", "sweep: --max-chunks 0", lambda d: _sweep(d, "--max-chunks", "0")),
+    Case("bench-out-dir", "bench: --out names an existing folder", lambda d: ["bench", "--out", _existing_dir(d)]),
+    Case("bench-out-unwritable", "bench: --out in a folder nothing can be written to",
+         lambda d: ["bench", "--out", f"{UNWRITABLE}/bench.json"]),
+    Case("id-out-unwritable", "identify: --out in a folder nothing can be written to",
+         lambda d: ["identify", _w(d, "data.csv", stribeck_text()), "--out", f"{UNWRITABLE}/r.json"]),
+    Case("rep-out-unwritable", "reproduce: --out in a folder nothing can be written to",
+         lambda d: ["reproduce", "--out", f"{UNWRITABLE}/rep"]),
+    Case("rep-out-other", "reproduce: --out holds another command's result (an emps MANIFEST.json)",
+         lambda d: ["reproduce", "--out", _w(d, "theirs/MANIFEST.json", json.dumps(
+             {"complete": True, "meta": {"command": "emps"}, "files": {}})).rsplit("/", 1)[0]]),
+    Case("diag-out-unwritable", "diagnose: --out in a folder nothing can be written to",
+         lambda d: ["diagnose", _w(d, "rec.csv", recording_text()), "--out", f"{UNWRITABLE}/r.json", "--quiet"]),
     Case("sim-undecodable", "simulate: undecodable bytes",
          lambda d: ["simulate", _w(d, "s.json", json.dumps(SCENARIO).encode() + b"\xff"),
                     "--out", str(d / "out" / "t.csv")]),

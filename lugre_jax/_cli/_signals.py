@@ -16,8 +16,6 @@ import signal
 import sys
 from typing import Iterator
 
-from ..io import deferred_signals as deferred_signals  # noqa: F401  (re-export)
-
 EXIT_SIGINT = 128 + signal.SIGINT  # 130, as a shell reports a Ctrl-C'd command
 EXIT_SIGTERM = 128 + signal.SIGTERM  # 143
 

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+from ._args import add_quiet
+from ._outputs import check_outputs
+
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("bench", help="benchmark the batched simulator against a scipy loop",
@@ -11,6 +14,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                        "cost vs forward cost, 1 vs 2 devices, peak memory. Writes JSON.")
     p.add_argument("--out", required=True, metavar="BENCH.json", help="JSON file to write")
     p.add_argument("--quick", action="store_true", help="smaller batches (a few minutes)")
+    add_quiet(p)
+
+
+def check(args) -> None:
+    check_outputs(args, out=".json")
 
 
 def run(args) -> int:
@@ -20,7 +28,12 @@ def run(args) -> int:
 
     with Outputs() as outs:
         out = outs.file(args.out, "--out", ".json")  # checked before minutes of work
-        res = run_benchmark(quick=args.quick)
+        if args.quiet:
+            from tqdm.auto import tqdm
+
+            res = run_benchmark(quick=args.quick, progress=tqdm(disable=True))
+        else:
+            res = run_benchmark(quick=args.quick)
         write_json(out, res)
     keys = [k for k in res if k.startswith(("speedup", "two_devices"))]
     for k in keys:

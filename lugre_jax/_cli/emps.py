@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._args import comma_choices
+from ._args import add_quiet, comma_choices
+from ._outputs import FOLDER, Outputs, check_outputs
 
 
 def _default_data() -> Path:
@@ -33,7 +34,9 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument("--data", help="estimation run .mat (default ../shared/data/emps/DATA_EMPS.mat)")
     p.add_argument("--validate", help="validation run .mat (same layout, optional pulses_N)")
-    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--out", required=True,
+                   help="output folder: new, empty, or an earlier emps result (it holds MANIFEST.json), which is "
+                        "replaced only when the new run has finished")
     p.add_argument("--models", help="comma-separated subset of models (default: all)")
     p.add_argument("--train-fraction", type=float, default=0.7,
                    help="fraction of the estimation run used for fitting (default 0.7)")
@@ -42,7 +45,12 @@ def add_parser(subparsers) -> None:
     p.add_argument("--segment-len", type=int, default=None,
                    help="samples per shooting segment (default: the segments tile the training part)")
     p.add_argument("--max-steps", type=int, default=60, help="Levenberg-Marquardt step limit (default 60)")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_quiet(p, "progress output")
+
+
+def check(args) -> None:
+    """The output folder, before the package loads and long before the fits end."""
+    check_outputs(args, command="emps", out=FOLDER)
 
 
 def run(args) -> int:
@@ -60,12 +68,14 @@ def run(args) -> int:
     if not args.data and not data.exists():
         raise ValueError(f"{data}: EMPS estimation run not found; pass --data DATA_EMPS.mat "
                          f"(see ../shared/data/README.md)")
-    run_ = read_emps_mat(data)
-    val = read_emps_mat(args.validate) if args.validate else None
-    report = identify_emps(run_, val, models=models, train_fraction=args.train_fraction,
-                           n_segments=args.segments, segment_len=args.segment_len,
-                           max_steps=args.max_steps, progress=not args.quiet)
-    paths = write_emps_outputs(report, args.out)
+    with Outputs(meta={"command": "emps"}) as outs:
+        staging = outs.folder(args.out, "--out")  # the same check as check(), then a staging folder
+        run_ = read_emps_mat(data)
+        val = read_emps_mat(args.validate) if args.validate else None
+        report = identify_emps(run_, val, models=models, train_fraction=args.train_fraction,
+                               n_segments=args.segments, segment_len=args.segment_len,
+                               max_steps=args.max_steps, progress=not args.quiet)
+        paths = [Path(args.out) / p.relative_to(staging) for p in write_emps_outputs(report, staging)]
     if not args.quiet:
         j = report.to_json()
         run_name = "validation" if val is not None else "held_out"

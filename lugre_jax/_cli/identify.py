@@ -8,7 +8,8 @@ wall time) and optionally a PNG of the identified curve.
 
 from __future__ import annotations
 
-from ._args import HelpFormatter, plain
+from ._args import HelpFormatter, add_quiet, plain
+from ._outputs import check_outputs
 
 
 def add_parser(subparsers) -> None:
@@ -36,9 +37,34 @@ def add_parser(subparsers) -> None:
     p.add_argument("--edges", default=None, help="piecewise boundaries VMIN,VCRIT in deg/s (default: detected)")
     p.add_argument("--target", default="data", choices=["data", "sines"],
                    help="fit the averaged data, or the eq. (12) sum-of-sines curves (the paper's route)")
-    p.add_argument("--out", required=True, metavar="RESULT.json", help="result JSON to write")
+    p.add_argument("--out", required=True, metavar="RESULT.json",
+                   help="result JSON to write (an existing file is replaced atomically)")
     p.add_argument("--plot", default=None, metavar="FIG.png", help="optional PNG of the identified curve")
-    p.add_argument("--quiet", action="store_true", help="no progress bar (shown on a terminal only)")
+    add_quiet(p, "status line")
+
+
+def _edges(text: str | None) -> tuple[float, float] | None:
+    import math
+
+    if not text:
+        return None
+    try:
+        edges = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {text!r}") from None
+    if len(edges) != 2 or not all(math.isfinite(e) for e in edges) or not 0 <= edges[0] < edges[1]:
+        raise ValueError(f"--edges must be two finite numbers 0 <= VMIN < VCRIT in deg/s, got {text!r}")
+    return edges
+
+
+def check(args) -> None:
+    """Arguments and output paths, before the package loads."""
+    if args.seeds < 1:
+        raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
+    if args.scheme == "piecewise" and args.model != "stribeck":
+        raise ValueError("--model applies to --scheme whole only (piecewise uses eq. 10 below and eq. 11 above v_crit)")
+    _edges(args.edges)
+    check_outputs(args, out=".json", plot=".png")
 
 
 def plot_identification(res, path) -> None:
@@ -88,18 +114,7 @@ def run(args) -> int:
     from ..io import load_friction_data, write_json
     from ._outputs import Outputs
 
-    if args.seeds < 1:
-        raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
-    if args.scheme == "piecewise" and args.model != "stribeck":
-        raise ValueError("--model applies to --scheme whole only (piecewise uses eq. 10 below and eq. 11 above v_crit)")
-    edges = None
-    if args.edges:
-        try:
-            edges = tuple(float(x) for x in args.edges.split(","))
-        except ValueError:
-            raise ValueError(f"--edges must be two numbers VMIN,VCRIT in deg/s, got {args.edges!r}") from None
-        if len(edges) != 2 or not all(np.isfinite(edges)) or not 0 <= edges[0] < edges[1]:
-            raise ValueError(f"--edges must be two finite numbers 0 <= VMIN < VCRIT in deg/s, got {args.edges!r}")
+    edges = _edges(args.edges)
     t_start = time.perf_counter()
     with Outputs() as outs:
         out_path = outs.file(args.out, "--out", ".json")

@@ -6,10 +6,8 @@ import argparse
 import sys
 import time
 
-import numpy as np
-
-from ._args import HelpFormatter
-from ._outputs import Outputs, check_output_size, csv_output_bytes
+from ._args import HelpFormatter, add_quiet
+from ._outputs import Outputs, check_output_size, check_outputs, csv_output_bytes
 
 _COLUMNS = 7
 
@@ -21,13 +19,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                                    "Without a 'solver' section the scenario is solved with error-controlled "
                                    "stepping that lands on the reference's steps (lugre_jax.Adaptive).")
     p.add_argument("scenario", help="scenario JSON (schema: lugre_jax/io/_scenario.py)")
-    p.add_argument("--out", required=True, help="trajectory CSV to write")
+    p.add_argument("--out", required=True, help="trajectory CSV to write (an existing file is replaced atomically)")
     p.add_argument("--plot", help="optional PNG figure of the trajectory")
     p.add_argument("--force", action="store_true", help="write a CSV larger than 500 MB")
-    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr (shown on a terminal)")
+    add_quiet(p)
+
+
+def check(args) -> None:
+    check_outputs(args, out=".csv", plot=".png")
 
 
 def run(args) -> int:
+    import numpy as np
+
     from .. import simulate
     from ..io import load_scenario, write_csv
 
@@ -60,7 +64,7 @@ def run(args) -> int:
             "velocity_ref_deg_s": sol.v_ref,
         }
         cols = {k: np.asarray(v) for k, v in cols.items()}
-        write_csv(out, _row_chunks(cols, n, quiet, args.out))
+        write_csv(out, _row_chunks(cols, n, args.quiet, args.out))
         if plot is not None:
             _plot(cols, plot)
     say(f"wrote {args.out}" + (f" and {args.plot}" if args.plot else ""))
@@ -71,8 +75,8 @@ _WRITE_CHUNK_ROWS = 1_000_000  # rows per slice handed to the writer: no full-si
 
 
 def _row_chunks(cols: dict, n: int, quiet: bool, name: str):
-    """The trajectory in row slices (views, not copies), with a progress bar on a terminal: writing a
-    CSV of millions of rows takes longer than solving for it."""
+    """The trajectory in row slices (views, not copies), with progress (a bar on a terminal, plain
+    lines in a log): writing a CSV of millions of rows takes longer than solving for it."""
     from tqdm.auto import tqdm
 
     with tqdm(total=n, desc=f"simulate: writing {name}", unit=" rows", unit_scale=True,

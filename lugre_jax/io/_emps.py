@@ -100,6 +100,10 @@ def _loadmat(path: Path, expected: str) -> dict:
     absent (``expected`` says what to pass) or not a MATLAB file."""
     import scipy.io
 
+    if path.is_dir():
+        mats = sorted(q.name for q in path.glob("*.mat"))
+        raise ValueError(f"{path}: is a folder; expected the EMPS .mat file itself, {expected}"
+                         + (f" (this folder holds {', '.join(mats[:3])})" if mats else ""))
     if not path.is_file():
         raise ValueError(f"{path}: EMPS file not found; pass the path to {expected} "
                          f"(default ../shared/data/emps/DATA_EMPS.mat)")
