@@ -5,9 +5,9 @@ Units are the paper's: deg, deg/s, N*m, s. Schema (``?`` = optional)::
 
     {
       "friction":   "paper" | {"model": "lugre", "Fc", "Fs", "vs", "sigma0", "sigma1", "sigma2", "delta"?}
-                   | {"model": "segmented", "edges": [deg/s, ...], "segments": [<lugre>, ...], "blend"?}
-                   | [<lugre>, ...]   (a segmented list; edges then required as "edges" alongside? no:
-                                       use the "segmented" form),
+                   | {"model": "segmented", "edges": [deg/s, ...], "segments": [<lugre>, ...], "blend"?: 0.1}
+                     (one edge fewer than segments, ascending and positive; each segment a
+                     "lugre" object, its "model" key optional),
       "joint":      {"J", "gravity_nm"?, "gravity_phase_deg"?},
       "motor"?:     {"R"?, "L"?, "Ke"?, "Km"?, "gear_ratio"?, "u_max"?, "neglect_inductance"?},
       "controller": {"type": "open_loop", "bias"?, "gain"?, "rate"?}

@@ -107,9 +107,11 @@ def plot_fig12(res: dict, path: Path):
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
         ax = axs[1, j]
-        ax.plot(tr["v_ref"], tr["omega"] - tr["v_ref"], "k-", lw=1)
-        for (lo, hi) in RAMP_WINDOWS.values():
-            ax.axvspan(lo, hi, color="orange", alpha=0.2)
+        ax.plot(tr["v_ref"], tr["omega"] - tr["v_ref"], "k-", lw=1, label="velocity error")
+        for i, (name, (lo, hi)) in enumerate(RAMP_WINDOWS.items()):
+            ax.axvspan(lo, hi, color="orange", alpha=0.2,
+                       label=f"scored windows ({', '.join(RAMP_WINDOWS)})" if i == 0 else None)
+        ax.legend(fontsize=7)
         ax.set_xscale("log")
         ax.set_xlabel("commanded velocity [deg/s] (log)")
         ax.set_ylabel("velocity error [deg/s]")

@@ -7,6 +7,15 @@ from pathlib import Path
 import numpy as np
 
 from ..io import save_figure
+from ._metrics import BandFraction, CreepAmplitude, DeadZone, StickSlip, TrackingError
+
+# Units of the metrics (their docstrings, lugre_jax/sweep/_metrics.py), for axis and colour-bar labels.
+_METRIC_UNITS = {DeadZone: "s", CreepAmplitude: "deg", BandFraction: "fraction of samples", TrackingError: "deg",
+                 StickSlip: "0 = none, 1 = stick-slip"}
+
+
+def _label(name: str, unit: str | None) -> str:
+    return f"{name} [{unit}]" if unit else name
 
 
 def _plt():
@@ -56,7 +65,8 @@ def grid_heatmaps(spec, X, Y, status, out: Path) -> None:
         ax0, ax1 = np.unique(X[:, 0]), np.unique(X[:, 1])
         fig, ax = plt.subplots(figsize=(6, 4.5))
         pc = ax.pcolormesh(ax1, ax0, m, shading="nearest")
-        fig.colorbar(pc, ax=ax, label=name + (" (mean over other names)" if D > 2 else ""))
-        ax.set_xlabel(spec.names[1])
-        ax.set_ylabel(spec.names[0])
+        unit = _METRIC_UNITS.get(type(spec.outputs[k]))
+        fig.colorbar(pc, ax=ax, label=_label(name, unit) + (" (mean over other names)" if D > 2 else ""))
+        ax.set_xlabel(_label(spec.names[1], spec.paths[1].unit))
+        ax.set_ylabel(_label(spec.names[0], spec.paths[0].unit))
         save_figure(fig, Path(out) / f"heatmap_{name}.png")
