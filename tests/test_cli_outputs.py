@@ -198,3 +198,27 @@ def test_log_progress_replaces_tqdm_auto_only_inside_the_command(monkeypatch):
     assert tqdm.auto.tqdm is original
     with cli._progress_for_logs(False):  # --quiet: the command's own disable= decides
         assert tqdm.auto.tqdm is original
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_a_commands_bars_become_lines_in_a_log(tmp_path, capsys, monkeypatch, quiet):
+    """Through ``main``: a subcommand's ``tqdm.auto`` bar (as the library's are made) prints plain
+    lines when stderr is not a terminal, and nothing with --quiet (the command passes disable=)."""
+    from lugre_jax._cli import bench
+
+    monkeypatch.setattr(cli, "_configure_process", lambda no_cache: None)
+
+    def run(args):
+        from tqdm.auto import tqdm
+
+        for _ in tqdm(range(3), desc="work", disable=args.quiet):
+            pass
+        return 0
+
+    monkeypatch.setattr(bench, "run", run)
+    assert cli.main(["bench", "--out", str(tmp_path / "b.json"), *(["--quiet"] if quiet else [])]) == 0
+    err = capsys.readouterr().err
+    if quiet:
+        assert err == ""
+    else:
+        assert "\r" not in err and err.splitlines()[-1].startswith("work: 3/3 (100 %), elapsed "), err

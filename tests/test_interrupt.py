@@ -46,7 +46,7 @@ def _interrupt_reproduce(tmp_path: Path, sig: int, extra: list[str], wait_for_fi
                          ) -> tuple[subprocess.CompletedProcess, Path]:
     out = tmp_path / "out"
     before = _previous_result(out)
-    cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--no-progress", "--out", str(out), *extra]
+    cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--quiet", "--out", str(out), *extra]
     p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          preexec_fn=default_sigint)
     # Wait until the run has written its first file into its temporary folder (mid-run, partial
@@ -84,7 +84,7 @@ def test_reproduce_rerun_replaces_a_previous_result(tmp_path):
     """A complete quick run into a folder holding a previous result replaces it, manifest last."""
     out = tmp_path / "out"
     _previous_result(out)
-    cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--no-progress", "--out", str(out),
+    cmd = [sys.executable, *_cli_module(), "reproduce", "--quick", "--quiet", "--out", str(out),
            "--only", "fig08,table2"]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=1200)
     assert r.returncode == 0, r.stderr[-2000:]
