@@ -95,9 +95,12 @@ def _log_lines_class(interval_s: float):
             eta = (total - self.n) / rate if total and rate else None
             unit = (self.unit or "").strip()
             desc = f"{self.desc}: " if self.desc else ""
+            if not total:  # an open-ended count: no ETA to give
+                left = ""
+            else:
+                left = f", ETA {_format_duration(eta) if self.n < total else '0:00'}"
             self.fp.write(f"{desc}{done}{' ' + unit if unit and unit != 'it' else ''}{pct}, elapsed "
-                          f"{_format_duration(elapsed)}, ETA {_format_duration(eta) if self.n < (total or 0) else '0:00'}"
-                          "\n")
+                          f"{_format_duration(elapsed)}{left}\n")
             with contextlib.suppress(Exception):
                 self.fp.flush()
             self._last_line_t, self._last_line_n = now, self.n

@@ -222,3 +222,11 @@ def test_a_commands_bars_become_lines_in_a_log(tmp_path, capsys, monkeypatch, qu
         assert err == ""
     else:
         assert "\r" not in err and err.splitlines()[-1].startswith("work: 3/3 (100 %), elapsed "), err
+
+
+def test_log_line_without_a_total_gives_no_eta():
+    buf = io.StringIO()
+    with cli._log_lines_class(interval_s=0.0)(desc="fit", unit=" evals", file=buf) as bar:
+        bar.update(5)
+    last = buf.getvalue().splitlines()[-1]
+    assert last.startswith("fit: 5 evals, elapsed ") and "ETA" not in last, last
