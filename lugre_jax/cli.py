@@ -184,6 +184,10 @@ def main(argv: list[str] | None = None) -> int:
         except Exception as e:  # a defect, not bad input: still one line, unless asked for the traceback
             if os.environ.get("LUGRE_JAX_TRACEBACK"):
                 raise
+            if "RESOURCE_EXHAUSTED" in str(e):  # XLA's out-of-memory error
+                print(error_line(command, e, "out of memory (the machine's memory is too small for this input; "
+                                             "reduce its size or split it)"), file=sys.stderr)
+                return 2
             print(error_line(command, e, f"internal error ({type(e).__name__}); please report it with the "
                                          "command, and set LUGRE_JAX_TRACEBACK=1 for the traceback"),
                   file=sys.stderr)

@@ -339,6 +339,8 @@ CASES: list[Case] = [
     Case("sim-string", "simulate: a string duration", lambda d: _simulate(d, _scen(duration_s="10"))),
     Case("sim-too-large", "simulate: 20 million samples (a 1.5 GB CSV) without --force",
          lambda d: _simulate(d, _scen(duration_s=200000.0, solver={"method": "fixed"}))),
+    Case("sim-memory", "simulate: 2 billion samples with --force (hundreds of GB in memory)",
+         lambda d: _simulate(d, _scen(duration_s=2.0e7, solver={"method": "fixed"}), "--force")),
     Case("sim-step-budget", "simulate: 20000 s on the default adaptive stepping (beyond its max_steps)",
          lambda d: _simulate(d, _scen(duration_s=20000.0))),
     Case("sim-out-unwritable", "simulate: --out in a folder nothing can be written to",

@@ -150,8 +150,10 @@ def test_sweep_memory_estimate_bounds_the_samples(tmp_path):
     assert cmd.memory_estimate(spec, n_max)[1] <= limit < cmd.memory_estimate(spec, 2 * n_max)[1]
 
 
-@pytest.mark.parametrize("exc, code, words", [(MemoryError("Unable to allocate 32.0 GiB"), 2, "out of memory"),
-                                              (RuntimeError("boom"), 1, "internal error (RuntimeError)")])
+@pytest.mark.parametrize("exc, code, words", [
+    (MemoryError("Unable to allocate 32.0 GiB"), 2, "out of memory"),
+    (RuntimeError("RESOURCE_EXHAUSTED: Out of memory allocating 34359738368 bytes."), 2, "out of memory"),
+    (RuntimeError("boom"), 1, "internal error (RuntimeError)")])
 def test_no_traceback_reaches_the_user(tmp_path, capsys, monkeypatch, exc, code, words):
     from lugre_jax._cli import bench
 
