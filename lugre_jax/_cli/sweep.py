@@ -49,12 +49,14 @@ def check(args) -> None:
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {args.out}: is an existing file; expected a folder (new, empty, or a sweep of the "
                          "same SPEC, which resumes)")
-    if out.is_dir() and any(out.iterdir()) and not (out / SWEEP_STATE).is_file():
+    # Process 0 of a distributed sweep may be filling the folder right now (its state file comes last).
+    first = args.process_id in (None, 0)
+    if first and out.is_dir() and any(out.iterdir()) and not (out / SWEEP_STATE).is_file():
         raise ValueError(f"--out {args.out}: exists, is not empty and holds no {SWEEP_STATE} (not a sweep), so it "
                          "will not be used; expected a new or empty folder, or a sweep of the same SPEC")
-    _check_parent(args.out, out, "--out", "folder")
-    why = _writable(out) if out.is_dir() else None
-    if why is not None:
+    if not out.is_dir():
+        _check_parent(args.out, out, "--out", "folder")
+    elif (why := _writable(out)) is not None:
         raise ValueError(f"--out {args.out}: cannot write in it ({why}); expected a writable folder")
 
 
