@@ -58,7 +58,7 @@ def test_argument_error_before_jax():
     (lambda d: ["sweep", str(d / "spec.json"), "--out", f"{UNWRITABLE}/sw"], "--out"),
     (lambda d: ["simulate", str(d / "s.json"), "--out", str(d / "folder")], "--out"),  # a folder for a file
     (lambda d: ["simulate", str(d / "s.json"), "--out", str(d / "t.csv"), "--plot", str(d / "t.csv")], "--plot"),
-    (lambda d: ["identify", "x.csv", "--out", str(d / "taken.txt" / "r.json")], "--out"),  # parent is a file
+    (lambda d: ["identify", str(d / "x.csv"), "--out", str(d / "taken.txt" / "r.json")], "--out"),  # parent: a file
     (lambda d: ["bench", "--out", f"{UNWRITABLE}/b.json"], "--out"),
     (lambda d: ["reproduce", "--out", str(d / "folder")], "--out"),  # a folder the user filled
     (lambda d: ["reproduce", "--out", str(d / "emps_result")], "--out"),  # another command's result
@@ -66,6 +66,8 @@ def test_argument_error_before_jax():
 ])
 def test_outputs_refused_before_jax_with_one_line_naming_the_flag(tmp_path, make, flag):
     (tmp_path / "taken.txt").write_text("x")
+    for name in ("spec.json", "s.json", "x.csv"):  # inputs (checked for existence only, before outputs)
+        (tmp_path / name).write_text("{}")
     (tmp_path / "folder").mkdir()
     (tmp_path / "folder" / "notes.txt").write_text("keep me")
     (tmp_path / "emps_result").mkdir()
@@ -77,6 +79,19 @@ def test_outputs_refused_before_jax_with_one_line_naming_the_flag(tmp_path, make
     assert lines[0].startswith(f"lugre-jax {argv[0]}: error: {flag} "), lines[0]
     assert not jax and not pkg  # refused before any work: the package was not even imported
     assert files_under(tmp_path) == before
+
+
+@pytest.mark.parametrize("argv, named", [
+    (["simulate", "{d}/nope.json", "--out", "{d}/t.csv"], "{d}/nope.json: no such file"),
+    (["identify", "{d}/nope.csv", "--out", "{d}/r.json"], "{d}/nope.csv: no such file or folder"),
+    (["sweep", "{d}", "--out", "{d}/out"], "{d}: is a folder"),
+    (["reproduce", "--data", "{d}/nope.csv", "--out", "{d}/out"], "--data {d}/nope.csv: no such file"),
+])
+def test_missing_inputs_answered_before_jax(tmp_path, argv, named):
+    argv = [a.format(d=tmp_path) for a in argv]
+    code, lines, (jax, pkg, _) = _early(*argv)
+    assert code == 2 and len(lines) == 1 and not jax and not pkg, lines
+    assert lines[0].startswith(f"lugre-jax {argv[0]}: error: {named.format(d=tmp_path)}"), lines[0]
 
 
 def test_early_phase_passes_good_commands_on(tmp_path):

@@ -77,5 +77,5 @@ def test_console_script_exit_code_and_single_line(tmp_path):
     r = subprocess.run([sys.executable, "-m", "lugre_jax_cli", "simulate", str(tmp_path / "missing.json"),
                         "--out", str(tmp_path / "t.csv")], capture_output=True, text=True)
     assert r.returncode == 2
-    assert r.stderr.strip().endswith("missing.json: no such scenario JSON file")
+    assert "missing.json: no such file; expected a scenario JSON file" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1

@@ -87,6 +87,21 @@ def stderr_is_terminal() -> bool:
         return False
 
 
+def check_input(path, expected: str, kind: str = "file", flag: str | None = None) -> None:
+    """Raise ``ValueError`` (naming the path, and ``flag`` if given) unless ``path`` exists as a file
+    (``kind`` "file"), a folder ("folder") or either ("any"): a mistyped input path is answered
+    before the package loads; its content is checked by the loader."""
+    import os
+
+    where = f"{flag} {path}" if flag else f"{path}"
+    if not os.path.exists(path):
+        raise ValueError(f"{where}: no such {'file or folder' if kind == 'any' else kind}; expected {expected}")
+    if kind == "file" and os.path.isdir(path):
+        raise ValueError(f"{where}: is a folder; expected {expected}")
+    if kind == "folder" and not os.path.isdir(path):
+        raise ValueError(f"{where}: is not a folder; expected {expected}")
+
+
 _ROLE = re.compile(r":(?:func|class|meth|mod|data|attr):`~?([^`]+)`")
 
 

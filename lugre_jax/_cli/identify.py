@@ -8,7 +8,7 @@ wall time) and optionally a PNG of the identified curve.
 
 from __future__ import annotations
 
-from ._args import HelpFormatter, add_quiet, plain
+from ._args import HelpFormatter, add_quiet, check_input, plain
 from ._outputs import check_outputs
 
 
@@ -64,6 +64,7 @@ def check(args) -> None:
     if args.scheme == "piecewise" and args.model != "stribeck":
         raise ValueError("--model applies to --scheme whole only (piecewise uses eq. 10 below and eq. 11 above v_crit)")
     _edges(args.edges)
+    check_input(args.data, "a Stribeck CSV or an EPOS steady-state folder", "any")
     check_outputs(args, out=".json", plot=".png")
 
 

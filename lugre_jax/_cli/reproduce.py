@@ -11,7 +11,7 @@ design) about a third of that.
 
 from __future__ import annotations
 
-from ._args import HelpFormatter, add_quiet, comma_choices, plain
+from ._args import HelpFormatter, add_quiet, check_input, comma_choices, plain
 from ._outputs import FOLDER, check_output_file, check_outputs
 
 CHOICES = ("fig08", "fig09", "fig10", "fig12", "fig13", "fig14", "fig15", "beyond", "creep", "table2", "design")
@@ -43,6 +43,8 @@ def check(args) -> None:
         comma_choices(args.only, CHOICES, "--only")
     if args.seeds is not None and args.seeds < 0:
         raise ValueError(f"--seeds must be >= 0, got {args.seeds}")
+    if args.data is not None:
+        check_input(args.data, "a steady-state Stribeck CSV (velocity_deg_s,torque_nm[,branch])", flag="--data")
     check_outputs(args, command="reproduce", out=FOLDER)
     if args.setup_cache is not None:
         if Path(args.out).resolve() in Path(args.setup_cache).resolve().parents:

@@ -6,7 +6,7 @@ import argparse
 import sys
 import time
 
-from ._args import HelpFormatter, add_quiet
+from ._args import HelpFormatter, add_quiet, check_input
 from ._outputs import Outputs, check_output_size, check_outputs, csv_output_bytes
 
 _COLUMNS = 7
@@ -26,6 +26,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def check(args) -> None:
+    check_input(args.scenario, "a scenario JSON file (schema: lugre_jax/io/_scenario.py)")
     check_outputs(args, out=".csv", plot=".png")
 
 

@@ -12,7 +12,7 @@ import json
 import os
 from pathlib import Path
 
-from ._args import add_quiet
+from ._args import add_quiet, check_input
 from ._outputs import _check_parent, _writable
 
 # The sweep runner's own state file in --out (SPEC hash, point and chunk counts).
@@ -45,6 +45,7 @@ def check(args) -> None:
         raise ValueError("--coordinator, --num-processes and --process-id go together")
     if args.max_chunks is not None and args.max_chunks < 1:
         raise ValueError(f"--max-chunks: expected a positive integer, got {args.max_chunks}")
+    check_input(args.spec, "a sweep SPEC JSON file (docs/sweeps.md)")
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {args.out}: is an existing file; expected a folder (new, empty, or a sweep of the "
