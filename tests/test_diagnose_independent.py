@@ -16,7 +16,7 @@ def test_generator_agrees_with_project_simulator():
     """Same plant, PI and reference (a 3-deg position sine as a velocity reference, the paper's
     sine-tracking run) in both: the scipy LSODA reference and lugre_jax.simulate (adaptive, rtol 1e-10)
     agree to 1e-5 in velocity and torque -- two codes written separately from the equations."""
-    plant = T.Plant()
+    plant = T.Plant(sigma2=2.0)  # passive: sigma2 >= sigma1*(Fs - Fc)/Fc, as lugre_jax.LuGre requires
     pi = T.VelocityPI()
     g = T.generate(T.PositionSine(3.0, 0.4, duration=2.5), (), plant, pi,
                    T.Sensors(fs=100.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0))
