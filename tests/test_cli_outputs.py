@@ -127,9 +127,13 @@ def test_one_manifest_name_and_one_quiet_flag():
     for cmd, argv in minimal.items():
         assert parser.parse_args([cmd, *argv, "--quiet"]).quiet is True, cmd
         assert parser.parse_args([cmd, *argv]).quiet is False, cmd
-    # the former name still works where it was used
+    # the former name still works where it was used, and is not shown
+    import argparse
+
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     for cmd in ("reproduce", "sweep"):
         assert parser.parse_args([cmd, *minimal[cmd], "--no-progress"]).quiet is True
+        assert "--no-progress" not in sub.choices[cmd].format_help()
 
 
 def _sweep_spec(tmp_path, n):

@@ -71,8 +71,9 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 
 def add_quiet(p: argparse.ArgumentParser, what: str = "progress") -> None:
     """The one quiet flag of every command: ``--quiet`` (``--no-progress`` is kept as a hidden alias)."""
-    p.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
+    p.add_argument("--quiet", action="store_true",
                    help=f"no {what} on stderr (bars on a terminal, plain lines with totals and ETA in a log)")
+    p.add_argument("--no-progress", dest="quiet", action="store_true", help=argparse.SUPPRESS)
 
 
 def show_progress(args) -> bool:
