@@ -122,3 +122,98 @@ def test_benchmark_scipy_rhs_is_the_same_system():
             full = np.asarray(lj.vector_field(0.3, jnp.asarray(y), sys1))
             np.testing.assert_allclose(rhs(0.3, [y[0], y[1], y[2], y[4]]), full[[0, 1, 2, 4]],
                                        rtol=1e-12, atol=1e-12)
+
+
+# ---------------------------------------------------------------- parameter checks at construction
+
+PASSIVE = dict(Fc=1.0, Fs=1.5, vs=0.1, sigma2=1.0, sigma0=100.0, sigma1=2.0)  # 2*0.5/1 = 1 <= sigma2
+
+
+@pytest.mark.parametrize("cls, kw, name", [
+    (lj.LuGre, dict(PASSIVE, sigma1=-5.0), "sigma1"),
+    (lj.LuGre, dict(PASSIVE, Fc=-0.1), "Fc"),
+    (lj.Stribeck, dict(Fc=1.0, Fs=2.0, vs=-0.1, sigma2=0.0), "vs"),
+    (lj.CoulombViscous, dict(Fc=1.0, sigma2=-1e-9), "sigma2"),
+    (lj.Joint, dict(J=0.0), "J"),
+    (lj.DCMotor, dict(R=-2.0), "R"),
+    (lj.VelocityPID, dict(kp=-1.0), "kp"),
+])
+def test_wrong_sign_is_one_line_naming_the_parameter(cls, kw, name):
+    with pytest.raises(ValueError) as e:
+        cls(**kw)
+    msg = str(e.value)
+    assert "\n" not in msg and msg.startswith(f"{cls.__name__}({name}=") and f"{name} must be" in msg
+
+
+def test_non_passive_lugre_is_refused_when_passivity_is_required():
+    # A stiff set: stiff bristles (1e4), sigma1 50, a small viscous term; passivity needs
+    # sigma2 >= sigma1*(Fs - Fc)/Fc = 50*0.3/0.9 = 16.67.
+    bad = dict(Fc=0.9, Fs=1.2, vs=0.1, sigma2=0.01, sigma0=1e4, sigma1=50.0)
+    strict = dict(require_passive=True)
+    with pytest.raises(ValueError, match=r"^LuGre\(sigma2=0\.01\): not passive; sigma2 must be >= .* = 16\.6667"):
+        lj.LuGre(**bad, **strict)
+    assert float(lj.LuGre(**bad).sigma2) == 0.01  # the default builds it (opt-in check)
+    lj.LuGre(**dict(bad, sigma2=50.0 * 0.3 / 0.9), **strict)  # on the boundary: passive
+    lj.LuGre(**dict(bad, Fs=0.9), **strict)  # no Stribeck drop: any sigma2 >= 0 is passive
+    with pytest.raises(ValueError, match="not passive"):  # Fs < Fc: the rise counts the same way
+        lj.LuGre(**dict(bad, Fs=0.6, sigma2=1.0), **strict)
+    # the sign is reported before the passivity it implies
+    with pytest.raises(ValueError, match=r"sigma1 must be >= 0"):
+        lj.LuGre(**dict(PASSIVE, sigma1=-5.0), **strict)
+    # the paper's Table 2 segment 1 is not passive
+    s1 = lj.paper_segment(1)
+    with pytest.raises(ValueError, match="not passive"):
+        lj.LuGre(**{n: float(getattr(s1, n)) for n in lj.names_of(s1)}, **strict)
+
+
+def test_passivity_condition_is_the_dissipation_inequality():
+    # F*v - d/dt(sigma0*z^2/2) at the worst reachable state (bristles at their full deflection
+    # Fs/sigma0 in the direction of a fast motion, where g = Fc) is negative just below the condition
+    # and non-negative at it, from the model's own torque and dz/dt.
+    base = dict(Fc=1.0, Fs=1.6, vs=0.2, sigma0=100.0, sigma1=2.0)
+    need = 2.0 * 0.6 / 1.0
+    v = jnp.asarray(1e3)  # g(v) = Fc to machine precision
+    z = 1.6 / 100.0  # z = Fs/sigma0 (w = sigma0*z/g = Fs/Fc)
+    for s2, ok in ((need * 0.99, False), (need, True)):
+        m = lj.LuGre(**base, sigma2=s2)
+        F, dz = m.torque_and_derivative(z, v)
+        supply = float(F * v - m.sigma0 * z * dz)
+        assert (supply >= -1e-9 * abs(float(F * v))) == ok, (s2, supply)
+
+
+def test_checks_skip_traced_values_and_check_batches_elementwise():
+    bad = jnp.asarray([1.0, -1.0, 2.0])
+    built = jax.vmap(lambda s: lj.LuGre(**dict(PASSIVE, sigma2=s)))(bad)  # traced: not checked
+    assert built.sigma2.shape == (3,)
+    jax.jit(lambda s: lj.LuGre(**dict(PASSIVE, sigma1=s)).sigma1)(-5.0)
+    with pytest.raises(ValueError, match=r"LuGre\(sigma2\[1\]=-1\.0 \(batch of shape \(3,\)\)\)"):
+        lj.LuGre(**dict(PASSIVE, sigma2=bad))
+    with pytest.raises(ValueError, match=r"sigma2\[2\]=0\.5 .*not passive"):
+        lj.LuGre(**dict(PASSIVE, sigma2=np.array([1.0, 2.0, 0.5])), require_passive=True)
+    jax.vmap(lambda s: lj.LuGre(**dict(PASSIVE, sigma2=s), require_passive=True))(jnp.asarray([0.5]))
+    lj.LuGre(**dict(PASSIVE, sigma1=np.nan))  # a failed estimate stays representable
+
+
+def test_stribeck_curve_is_the_models_steady_state():
+    v = np.array([-2.0, -0.03, 0.0, 0.001, 0.048, 1.5])
+    Fc, Fs, vs, s2 = 0.86, 2.357, 0.048, 3.0502
+    expect = np.sign(v) * (Fc + (Fs - Fc) * np.exp(-np.abs(v / vs) ** 1.5)) + s2 * v
+    np.testing.assert_allclose(lj.friction.stribeck_curve(v, Fc, Fs, vs, s2, 1.5), expect, rtol=1e-14, atol=1e-15)
+    np.testing.assert_allclose(lj.friction.stribeck_g(0.0, Fc, Fs, vs), Fs, rtol=1e-15)
+    m = lj.LuGre(Fc, Fs, vs, s2, 100.0, 0.5)
+    np.testing.assert_array_equal(m.steady_state(v), lj.friction.stribeck_curve(v, Fc, Fs, vs, s2))
+
+
+def test_bristle_step_is_exact_against_scipy():
+    from scipy.integrate import quad, solve_ivp
+
+    Fc, Fs, vs, s0 = 1.0, 1.6, 0.2, 100.0
+    for v, h, z0 in [(0.05, 0.01, 0.0), (-3.0, 0.02, 0.012), (1e-9, 0.001, -0.01), (40.0, 0.05, -0.016)]:
+        g = float(lj.friction.stribeck_g(v, Fc, Fs, vs))
+        sol = solve_ivp(lambda t, z: v - s0 * abs(v) * z / g, (0.0, h), [z0], method="Radau", rtol=1e-12,
+                        atol=1e-15, dense_output=True)
+        z1, zm = lj.friction.bristle_step(jnp.asarray(z0), jnp.asarray(v * h), g, s0)
+        assert float(z1) == pytest.approx(sol.y[0, -1], rel=1e-8, abs=1e-14)
+        assert float(zm) == pytest.approx(quad(lambda t: sol.sol(t)[0], 0.0, h, epsabs=1e-16)[0] / h, rel=1e-7, abs=1e-14)
+        e, c = lj.friction.bristle_coefficients(jnp.asarray(v * h), g, s0)
+        assert float(e * z0 + c) == pytest.approx(float(z1), rel=1e-15, abs=1e-18)

@@ -16,7 +16,7 @@ from typing import ClassVar, NamedTuple
 import equinox as eqx
 import jax.numpy as jnp
 
-from .._params import param
+from .._params import NONNEGATIVE, POSITIVE, check_domains, param
 from .._types import Array, Float
 from ..friction import AbstractFrictionModel
 
@@ -49,6 +49,9 @@ class AbstractController(eqx.Module):
     """Maps :class:`CtrlIn` to :class:`CtrlOut`. ``voltage`` says whether the command is a voltage."""
 
     voltage: eqx.AbstractClassVar[bool]
+
+    def __check_init__(self):
+        check_domains(self)  # concrete gains and time constants in their domains (no negative gain)
 
     @abc.abstractmethod
     def __call__(self, s: CtrlIn) -> CtrlOut:
@@ -112,10 +115,10 @@ class VelocityPID(AbstractController):
     differentiate ``kd``.
     """
 
-    kp: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 1e4)
-    ki: Float[Array, "*b"] = param("N*m/deg", 0.0, 1e5, default=0.0)
-    kd: float | Float[Array, "*b"] = param("N*m*s^2/deg", 0.0, 1e3, default=0.0, convert=False)
-    tf: Float[Array, "*b"] = param("s", 1e-6, 1.0, default=1e-2)
+    kp: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 1e4, domain=NONNEGATIVE)
+    ki: Float[Array, "*b"] = param("N*m/deg", 0.0, 1e5, domain=NONNEGATIVE, default=0.0)
+    kd: float | Float[Array, "*b"] = param("N*m*s^2/deg", 0.0, 1e3, domain=NONNEGATIVE, default=0.0, convert=False)
+    tf: Float[Array, "*b"] = param("s", 1e-6, 1.0, domain=POSITIVE, default=1e-2)
     voltage: ClassVar[bool] = False
 
     def __call__(self, s):
@@ -129,12 +132,12 @@ class PositionPID(AbstractController):
     ``e_p = theta_ref - theta`` [deg]; kpp in 1/s, kip in 1/s^2; the inner loop as :class:`VelocityPID`.
     """
 
-    kpp: Float[Array, "*b"] = param("1/s", 0.0, 1e4)
-    kp: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 1e4)
-    ki: Float[Array, "*b"] = param("N*m/deg", 0.0, 1e5, default=0.0)
-    kd: float | Float[Array, "*b"] = param("N*m*s^2/deg", 0.0, 1e3, default=0.0, convert=False)
-    kip: Float[Array, "*b"] = param("1/s^2", 0.0, 1e5, default=0.0)
-    tf: Float[Array, "*b"] = param("s", 1e-6, 1.0, default=1e-2)
+    kpp: Float[Array, "*b"] = param("1/s", 0.0, 1e4, domain=NONNEGATIVE)
+    kp: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 1e4, domain=NONNEGATIVE)
+    ki: Float[Array, "*b"] = param("N*m/deg", 0.0, 1e5, domain=NONNEGATIVE, default=0.0)
+    kd: float | Float[Array, "*b"] = param("N*m*s^2/deg", 0.0, 1e3, domain=NONNEGATIVE, default=0.0, convert=False)
+    kip: Float[Array, "*b"] = param("1/s^2", 0.0, 1e5, domain=NONNEGATIVE, default=0.0)
+    tf: Float[Array, "*b"] = param("s", 1e-6, 1.0, domain=POSITIVE, default=1e-2)
     voltage: ClassVar[bool] = False
 
     def __call__(self, s):
@@ -156,8 +159,8 @@ class LuGreCompensated(AbstractController):
 
     inner: VelocityPID | PositionPID
     observer: AbstractFrictionModel
-    k_obs: Float[Array, "*b"] = param("1", 0.0, 1e4, default=1.0)
-    J_ff: Float[Array, "*b"] = param("N*m*s^2/deg", 0.0, 10.0, default=0.0)
+    k_obs: Float[Array, "*b"] = param("1", 0.0, 1e4, domain=NONNEGATIVE, default=1.0)
+    J_ff: Float[Array, "*b"] = param("N*m*s^2/deg", 0.0, 10.0, domain=NONNEGATIVE, default=0.0)
     voltage: ClassVar[bool] = False
 
     def __call__(self, s):

@@ -68,8 +68,7 @@ def presliding_step(friction: AbstractFrictionModel, J: float, step_nm: float, *
         raise ValueError(f"step_nm must be a positive torque below breakaway, got {step_nm!r}")
     sys_ = System(friction=friction, joint=Joint(J=J), controller=OpenLoop(bias=float(step_nm)),
                   reference=VelocitySteps([0.0]))
-    # The fixed-step path agrees with the adaptive Kvaerno5 one to 1e-6 relative here and compiles
-    # faster.
+    # Fixed steps: the motion is slow and smooth, and this path compiles faster than the adaptive one.
     sol = simulate(sys_, duration_s, sample_hz, stepping=FixedStep())
     if int(sol.result) != 0:
         raise ValueError(f"pre-sliding simulation failed (result {int(sol.result)}); shorten duration_s or the step")
@@ -93,25 +92,29 @@ def presliding_step(friction: AbstractFrictionModel, J: float, step_nm: float, *
     return PreslidingResult(float(step_nm / dth), float(step_nm), dth, ts, th, settled)
 
 
-def lugre_from_static(static: AbstractFrictionModel, sigma0, sigma1) -> AbstractFrictionModel:
+def lugre_from_static(static: AbstractFrictionModel, sigma0, sigma1, *,
+                      require_passive: bool = False) -> AbstractFrictionModel:
     """Give an identified static curve its dynamics: a :class:`LuGre` (from a ``Stribeck`` or
     ``CoulombViscous``) or a ``Segmented`` of LuGres (one ``sigma0``/``sigma1`` per segment, or one
     shared pair). ``CoulombViscous`` (eq. 11) becomes a LuGre with ``Fs = Fc``.
+
+    ``require_passive`` goes to :class:`LuGre`: eq. (18)'s damping ignores passivity, and on a
+    pronounced Stribeck curve (the paper's segment 1) it gives a non-passive set, which ``True``
+    refuses.
     """
+    kw = dict(sigma0=jnp.asarray(sigma0, float), sigma1=jnp.asarray(sigma1, float), require_passive=require_passive)
     if isinstance(static, Segmented):
         n = len(static.segments)
         s0 = np.broadcast_to(np.asarray(sigma0, dtype=np.float64), (n,))
         s1 = np.broadcast_to(np.asarray(sigma1, dtype=np.float64), (n,))
-        segs = tuple(lugre_from_static(m, float(a), float(b)) for m, a, b in zip(static.segments, s0, s1))
+        segs = tuple(lugre_from_static(m, float(a), float(b), require_passive=require_passive)
+                     for m, a, b in zip(static.segments, s0, s1))
         return Segmented(segs, static.edges, blend=static.blend)
     if isinstance(static, Stribeck):
-        return LuGre(Fc=static.Fc, Fs=static.Fs, vs=static.vs, sigma2=static.sigma2, sigma0=jnp.asarray(sigma0, float),
-                     sigma1=jnp.asarray(sigma1, float), delta=static.delta)
+        return LuGre(Fc=static.Fc, Fs=static.Fs, vs=static.vs, sigma2=static.sigma2, delta=static.delta, **kw)
     if isinstance(static, CoulombViscous):
-        return LuGre(Fc=static.Fc, Fs=static.Fc, vs=jnp.asarray(1.0), sigma2=static.sigma2,
-                     sigma0=jnp.asarray(sigma0, float), sigma1=jnp.asarray(sigma1, float))
+        return LuGre(Fc=static.Fc, Fs=static.Fc, vs=jnp.asarray(1.0), sigma2=static.sigma2, **kw)
     if isinstance(static, LuGre):
-        return LuGre(Fc=static.Fc, Fs=static.Fs, vs=static.vs, sigma2=static.sigma2, sigma0=jnp.asarray(sigma0, float),
-                     sigma1=jnp.asarray(sigma1, float), delta=static.delta)
+        return LuGre(Fc=static.Fc, Fs=static.Fs, vs=static.vs, sigma2=static.sigma2, delta=static.delta, **kw)
     raise ValueError(f"cannot build a LuGre model from {type(static).__name__}; pass Stribeck, CoulombViscous, "
                      "LuGre or Segmented")

@@ -1,8 +1,13 @@
 """Friction models (paper section 4.1, eq. 9-11 and Table 1).
 
-Each model declares its parameters once, with unit and identification bounds (``param``); the
-registry functions read them from a model class or instance: ``names_of`` (vector order),
-``units_of``, ``bounds_of``, ``to_vector`` and ``from_vector``.
+Each model declares its parameters once, with unit, identification bounds and physical domain
+(``param``); the registry functions read them from a model class or instance: ``names_of`` (vector
+order), ``units_of``, ``bounds_of``, ``to_vector`` and ``from_vector``. A model built from concrete
+values checks them (sign; LuGre's passivity, see :class:`LuGre`).
+
+The two formulas every friction computation shares are written once here: the Stribeck curve
+(:func:`stribeck_g`, :func:`stribeck_curve`) and the exact bristle update over a sample
+(:func:`bristle_coefficients`, :func:`bristle_step`).
 """
 
 from .._params import (
@@ -19,4 +24,8 @@ from ._models import (
     LuGre as LuGre,
     Segmented as Segmented,
     Stribeck as Stribeck,
+    bristle_coefficients as bristle_coefficients,
+    bristle_step as bristle_step,
+    stribeck_curve as stribeck_curve,
+    stribeck_g as stribeck_g,
 )

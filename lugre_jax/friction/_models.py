@@ -25,26 +25,34 @@ multiplications (docs/performance.md).
 from __future__ import annotations
 
 import abc
+import dataclasses
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from .._fusion import derivative_stored_once, runtime_one
-from .._params import param
+from .._params import NONNEGATIVE, check_domains, concrete, describe_value, param
 from .._types import Array, ArrayLike, Float
 
 _TINY = 1e-12
 
 
-def _stribeck_g(v, Fc, Fs, vs, delta):
-    """g(v) = Fc + (Fs - Fc) * exp(-|v/vs|^delta), safe (and differentiable) at v = 0."""
+def stribeck_g(v, Fc, Fs, vs, delta=2.0):
+    """Stribeck function ``g(v) = Fc + (Fs - Fc)*exp(-|v/vs|^delta)`` [torque], eq. (10): the
+    sliding friction's magnitude, ``Fs`` at rest and ``Fc`` at speed. Safe and differentiable at
+    ``v = 0``; ``vs = 0`` gives ``Fc`` for every ``v != 0``.
+
+    ``delta`` as a Python number is a compile-time constant (``delta = 2``, the paper's, is ``x*x``);
+    as an array it is a differentiable leaf. Unit-agnostic: ``v`` and ``vs`` in one velocity unit,
+    ``Fc`` and ``Fs`` in one force or torque unit.
+    """
     # |v|*(1/vs): the reciprocal of a parameter is hoisted out of the time loop (see module doc).
     x = jnp.abs(v) * (1.0 / jnp.maximum(vs, _TINY))
     if isinstance(delta, (int, float)):
-        # A Python-number exponent is static: the paper's delta = 2 becomes x*x. The general
-        # exp(delta*log x) costs a log and an exp per evaluation and blocks XLA's vectorisation of
-        # the whole fused right-hand side.
+        # A static exponent: the general exp(delta*log x) costs a log and an exp per evaluation and
+        # blocks XLA's vectorisation of the whole fused right-hand side.
         xd = x * x if delta == 2 else x**delta
     else:
         # Traced exponent (e.g. fitted): guard 0**delta, whose d/d(delta) would be 0*log(0).
@@ -53,8 +61,55 @@ def _stribeck_g(v, Fc, Fs, vs, delta):
     return Fc + (Fs - Fc) * jnp.exp(-xd)
 
 
+def stribeck_curve(v, Fc, Fs, vs, sigma2=0.0, delta=2.0):
+    """Steady-state friction ``F(v) = sign(v)*g(v) + sigma2*v``, eq. (10) (eq. 11 with ``Fs = Fc``):
+    the torque after sliding at constant ``v`` for a long time, for :class:`Stribeck` and
+    :class:`LuGre` alike. ``g`` is :func:`stribeck_g`."""
+    v = jnp.asarray(v)
+    return jnp.sign(v) * stribeck_g(v, Fc, Fs, vs, delta) + sigma2 * v
+
+
+def bristle_coefficients(dpath, g, sigma0):
+    """``(decay, gain)`` of the exact bristle update ``z+ = decay*z + gain`` over a path increment.
+
+    With the velocity's sign and ``g`` held over the step, ``dz/dt = v - sigma0*|v|*z/g`` is linear
+    in ``z`` along the path ``s`` (``dz/ds = 1 - sigma0*sign(ds)*z/g``) and is solved exactly:
+    ``decay = exp(-x)``, ``gain = dpath*phi1(x)`` with ``x = sigma0*|dpath|/g`` and
+    ``phi1(x) = (1 - exp(-x))/x``. Stable for any step (``x`` is the stiffness times the step, as
+    large as the sampling makes it), exact for piecewise-constant velocity, differentiable in every
+    argument. ``dpath`` is the displacement over the step (``v*h``), in ``z``'s unit.
+    """
+    x = sigma0 * jnp.abs(dpath) / g
+    small = x > 1e-8
+    xs = jnp.where(small, x, 1.0)
+    return jnp.exp(-x), dpath * jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+
+
+def bristle_step(z, dpath, g, sigma0):
+    """``(z_next, z_mean)``: the bristle deflection after the path increment ``dpath`` and its mean
+    over the step (the friction's ``sigma0*z`` averaged over a sample), by the exact update of
+    :func:`bristle_coefficients`. ``z_mean = z*phi1 + dpath*(1 - phi1)/x``, ``z + dpath/2`` as
+    ``x -> 0``."""
+    x = sigma0 * jnp.abs(dpath) / g
+    small = x > 1e-8
+    xs = jnp.where(small, x, 1.0)
+    phi = jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+    z_next = jnp.exp(-x) * z + dpath * phi
+    z_mean = jnp.where(small, z * phi + dpath * (1.0 - phi) / xs, z + 0.5 * dpath)
+    return z_next, z_mean
+
+
 class AbstractFrictionModel(eqx.Module):
-    """A friction law in the paper's units (deg/s in, N*m out)."""
+    """A friction law in the paper's units (deg/s in, N*m out).
+
+    Concrete parameter values are checked when a model is built: each must lie in its declared
+    domain (no negative friction, stiffness or damping), else ``ValueError`` names it, e.g.
+    ``LuGre(sigma1=-5.0): sigma1 must be >= 0 [N*m*s/deg]``. Traced values (under ``jit``,
+    ``vmap``, ``grad``) are not checked; batched concrete values are checked element by element.
+    """
+
+    def __check_init__(self):
+        check_domains(self)
 
     @abc.abstractmethod
     def steady_state(self, v: Float[ArrayLike, "*b"]) -> Float[Array, "*b"]:
@@ -85,8 +140,8 @@ class AbstractFrictionModel(eqx.Module):
 class CoulombViscous(AbstractFrictionModel):
     """F(v) = Fc*sign(v) + sigma2*v: the classical model, eq. (11) with a sign."""
 
-    Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0)
-    sigma2: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 10.0)
+    Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0, domain=NONNEGATIVE)
+    sigma2: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 10.0, domain=NONNEGATIVE)
 
     def steady_state(self, v):
         v = jnp.asarray(v)
@@ -110,19 +165,18 @@ class Stribeck(AbstractFrictionModel):
     constant (fast), an array is a differentiable leaf (e.g. to fit the Stribeck shape).
     """
 
-    Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0)
-    Fs: Float[Array, "*b"] = param("N*m", 0.0, 10.0)
-    vs: Float[Array, "*b"] = param("deg/s", 0.0, 1.0)
-    sigma2: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 10.0)
+    Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0, domain=NONNEGATIVE)
+    Fs: Float[Array, "*b"] = param("N*m", 0.0, 10.0, domain=NONNEGATIVE)
+    vs: Float[Array, "*b"] = param("deg/s", 0.0, 1.0, domain=NONNEGATIVE)
+    sigma2: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 10.0, domain=NONNEGATIVE)
     delta: float | Float[Array, "*b"] = 2.0
 
     def g(self, v):
         """Stribeck function g(v) [N*m] (positive)."""
-        return _stribeck_g(v, self.Fc, self.Fs, self.vs, self.delta)
+        return stribeck_g(v, self.Fc, self.Fs, self.vs, self.delta)
 
     def steady_state(self, v):
-        v = jnp.asarray(v)
-        return jnp.sign(v) * self.g(v) + self.sigma2 * v
+        return stribeck_curve(v, self.Fc, self.Fs, self.vs, self.sigma2, self.delta)
 
     def torque_and_derivative(self, z, v):
         f = self.steady_state(v)
@@ -138,19 +192,57 @@ class LuGre(AbstractFrictionModel):
     ``dz/dt = v - sigma0*|v|*z/g(v)`` and ``F = sigma0*z + sigma1*dz/dt + sigma2*v`` with the Stribeck
     ``g`` above. Its steady state at constant ``v`` is the Stribeck curve (eq. 10); under a small
     torque it behaves as a spring of stiffness ``sigma0`` (pre-sliding, eq. 17).
+
+    Passivity. ``LuGre(..., require_passive=True)`` built from concrete values must be passive (the
+    map ``v -> F`` dissipates energy): ``sigma2*min(Fc, Fs) >= sigma1*|Fs - Fc|``, i.e.
+    ``sigma2 >= sigma1*(Fs - Fc)/Fc`` for the usual ``Fs >= Fc``, else ``ValueError`` names
+    ``sigma2`` and the least value it needs (cf.
+    Barabanov and Ortega, "Necessary and sufficient conditions for passivity of the LuGre friction
+    model", IEEE Trans. Automatic Control 45(4):830-832, 2000). Derivation: with the storage
+    ``V = sigma0*z^2/2`` and ``w = sigma0*z/g``, ``F*v - dV/dt = |v|*(g*w^2 - sigma1*v*w +
+    (sigma1 + sigma2)*|v|)``. On the invariant set ``|z| <= max(Fc, Fs)/sigma0`` this is
+    non-negative for every ``v`` exactly when the condition holds: at high speed (``g -> min``) with
+    the bristles fully deflected in the direction of motion (``w = max/min``) it is the condition
+    itself; at lower speed the quadratic's minimum in ``w`` needs less.
+
+    The check is opt-in because many sets in use violate it: the paper's Table 2 segment 1
+    (``sigma1*(Fs - Fc)/Fc = 14.0`` against ``sigma2 = 2.98``), eq. (18)'s damping on a pronounced
+    Stribeck curve, the synthetic plants of ``diagnose`` and ``testing``; the equations are still well
+    defined. The sign checks of :class:`AbstractFrictionModel` always apply.
     """
 
-    Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0)
-    Fs: Float[Array, "*b"] = param("N*m", 0.0, 10.0)
-    vs: Float[Array, "*b"] = param("deg/s", 0.0, 1.0)
-    sigma2: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 10.0)
-    sigma0: Float[Array, "*b"] = param("N*m/deg", 0.0, 1.0e4)
-    sigma1: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 100.0)
+    Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0, domain=NONNEGATIVE)
+    Fs: Float[Array, "*b"] = param("N*m", 0.0, 10.0, domain=NONNEGATIVE)
+    vs: Float[Array, "*b"] = param("deg/s", 0.0, 1.0, domain=NONNEGATIVE)
+    sigma2: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 10.0, domain=NONNEGATIVE)
+    sigma0: Float[Array, "*b"] = param("N*m/deg", 0.0, 1.0e4, domain=NONNEGATIVE)
+    sigma1: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 100.0, domain=NONNEGATIVE)
     delta: float | Float[Array, "*b"] = 2.0
+    require_passive: dataclasses.InitVar[bool] = dataclasses.field(default=False, kw_only=True)
+
+    def __post_init__(self, require_passive: bool):
+        if not require_passive:
+            return
+        check_domains(self)  # a wrong sign is reported as such, before the passivity it implies
+        vals = [concrete(getattr(self, n)) for n in ("Fc", "Fs", "sigma1", "sigma2")]
+        if any(x is None for x in vals):
+            return  # traced: the check belongs to whoever builds the concrete set
+        Fc, Fs, s1, s2 = np.broadcast_arrays(*vals)
+        need = s1 * np.abs(Fs - Fc)
+        # a relative margin of 1e-12 accepts a set that meets the condition with equality
+        bad = s2 * np.minimum(Fc, Fs) < need * (1.0 - 1e-12)
+        if bad.any():
+            i = tuple(int(k) for k in np.argwhere(bad)[0])
+            least = need[i] / np.minimum(Fc, Fs)[i] if np.minimum(Fc, Fs)[i] > 0 else np.inf
+            raise ValueError(
+                f"LuGre({describe_value('sigma2', s2, bad)}): not passive; sigma2 must be >= "
+                f"sigma1*|Fs - Fc|/min(Fc, Fs) = {least:.6g} [N*m*s/deg] (sigma1={s1[i]:g}, Fc={Fc[i]:g}, "
+                f"Fs={Fs[i]:g})"
+            )
 
     def g(self, v):
         """Stribeck function g(v) [N*m] (positive)."""
-        return _stribeck_g(v, self.Fc, self.Fs, self.vs, self.delta)
+        return stribeck_g(v, self.Fc, self.Fs, self.vs, self.delta)
 
     def static(self) -> Stribeck:
         """The steady-state (Stribeck) part of this model."""

@@ -44,14 +44,19 @@ def paper_inertia_per_segment() -> dict[int, float]:
 
 
 def paper_segment(k: int) -> LuGre:
-    """LuGre model of segment ``k`` (1, 2 or 3) of Tables 1-2."""
+    """LuGre model of segment ``k`` (1, 2 or 3) of Tables 1-2.
+
+    Segment 1 is not passive (:class:`~lugre_jax.friction.LuGre`: ``sigma2 = 2.98`` where passivity
+    needs ``sigma1*(Fs - Fc)/Fc = 14.0``); it is the paper's published model and is built as
+    published (``require_passive=False``, whatever the default).
+    """
     if k not in TABLE1:
         raise ValueError(f"segment must be 1, 2 or 3, got {k!r}")
     Fc, Fs, vs, s2 = TABLE1[k]
     if Fs is None:
         Fs, vs = Fc, 1.0
     s0, s1 = TABLE2[k]
-    return LuGre(Fc=Fc, Fs=Fs, vs=vs, sigma2=s2, sigma0=s0, sigma1=s1)
+    return LuGre(Fc=Fc, Fs=Fs, vs=vs, sigma2=s2, sigma0=s0, sigma1=s1, require_passive=False)
 
 
 def paper_friction() -> Segmented:

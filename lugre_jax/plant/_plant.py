@@ -17,7 +17,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from .._params import param
+from .._params import NONNEGATIVE, POSITIVE, check_domains, param
 from .._types import Array, Float
 
 DEG = np.pi / 180.0
@@ -31,11 +31,14 @@ class Joint(eqx.Module):
     it defaults to 0.
     """
 
-    J: Float[Array, "*b"] = param("N*m*s^2/deg", 1e-6, 10.0)
+    J: Float[Array, "*b"] = param("N*m*s^2/deg", 1e-6, 10.0, domain=POSITIVE)
     gravity_nm: float | Float[Array, "*b"] = param("N*m", -100.0, 100.0, default=0.0, convert=False)
     gravity_phase_deg: float | Float[Array, "*b"] = param(
         "deg", -180.0, 180.0, default=0.0, convert=False
     )
+
+    def __check_init__(self):
+        check_domains(self)
 
     def gravity(self, theta):
         """Gravity torque G(theta) [N*m] for joint angle ``theta`` [deg]."""
@@ -70,12 +73,15 @@ class DCMotor(AbstractActuator):
     electrical time constant L/R = 2.5e-4 s is far below the mechanical one, as the paper assumes.
     """
 
-    R: Float[Array, "*b"] = param("ohm", 1e-3, 100.0, default=2.0)
-    L: Float[Array, "*b"] = param("H", 0.0, 1.0, default=5.0e-4)
-    Ke: Float[Array, "*b"] = param("V*s/rad", 1e-4, 10.0, default=0.05)
-    Km: Float[Array, "*b"] = param("N*m/A", 1e-4, 10.0, default=0.05)
-    gear_ratio: Float[Array, "*b"] = param("1", 1.0, 1e4, default=160.0)
-    u_max: Float[Array, "*b"] = param("V", 0.0, 1e3, default=24.0)
+    R: Float[Array, "*b"] = param("ohm", 1e-3, 100.0, domain=POSITIVE, default=2.0)
+    L: Float[Array, "*b"] = param("H", 0.0, 1.0, domain=NONNEGATIVE, default=5.0e-4)
+    Ke: Float[Array, "*b"] = param("V*s/rad", 1e-4, 10.0, domain=POSITIVE, default=0.05)
+    Km: Float[Array, "*b"] = param("N*m/A", 1e-4, 10.0, domain=POSITIVE, default=0.05)
+    gear_ratio: Float[Array, "*b"] = param("1", 1.0, 1e4, domain=POSITIVE, default=160.0)
+    u_max: Float[Array, "*b"] = param("V", 0.0, 1e3, domain=NONNEGATIVE, default=24.0)
+
+    def __check_init__(self):
+        check_domains(self)
 
     def back_emf(self, omega_deg_s):
         """Back-EMF [V] at joint velocity ``omega_deg_s`` [deg/s]."""

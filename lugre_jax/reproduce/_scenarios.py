@@ -217,7 +217,8 @@ def fig14(setup: Setup) -> dict:
 def drifted_plant(plant: Segmented, factor: float = 1.1) -> Segmented:
     """The plant with every friction torque (Fc, Fs, sigma2 and sigma0, sigma1) scaled by ``factor``."""
     segs = tuple(LuGre(Fc=s.Fc * factor, Fs=s.Fs * factor, vs=s.vs, sigma2=s.sigma2 * factor,
-                       sigma0=s.sigma0 * factor, sigma1=s.sigma1 * factor, delta=s.delta) for s in plant.segments)
+                       sigma0=s.sigma0 * factor, sigma1=s.sigma1 * factor, delta=s.delta, require_passive=False)
+                 for s in plant.segments)
     return Segmented(segs, plant.edges, blend=plant.blend)
 
 

@@ -125,7 +125,8 @@ def _segment_dicts(model) -> list[dict]:
 def model_from_dicts(segs: list[dict]) -> AbstractFrictionModel:
     """Rebuild an observer model from :func:`_segment_dicts` output (JSON cache)."""
     ms = [LuGre(Fc=jnp.asarray(s["Fc"]), Fs=jnp.asarray(s["Fs"]), vs=jnp.asarray(s["vs"]), sigma2=jnp.asarray(s["sigma2"]),
-                sigma0=jnp.asarray(s["sigma0"]), sigma1=jnp.asarray(s["sigma1"])) for s in segs]
+                sigma0=jnp.asarray(s["sigma0"]), sigma1=jnp.asarray(s["sigma1"]), require_passive=False)
+          for s in segs]
     if len(ms) == 1:
         return ms[0]
     return Segmented(tuple(ms), jnp.asarray([s["v_range"][1] for s in segs[:-1]]))
@@ -160,7 +161,8 @@ def identify_observers(data_path, sigma0: float, J: float, *, quick: bool = Fals
         else:
             s2 = float(static.sigma2)
         s1 = np.maximum(sigma1_eq18(J, sigma0, s2), 0.0)
-        out[label] = (lugre_from_static(static, sigma0, s1), res)
+        # eq. (18)'s damping on the identified Stribeck curve is the paper's route, passive or not
+        out[label] = (lugre_from_static(static, sigma0, s1, require_passive=False), res)
         if progress is not None:
             progress.update(1)
     return out
