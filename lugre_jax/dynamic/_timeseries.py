@@ -6,9 +6,10 @@ from one pre-sliding step (eq. 17) and sigma1 from a rule of thumb (eq. 18).
 * Model: a parameterised :class:`~lugre_jax.System` ``build(p)``; the recording is the joint angle
   [deg] sampled on the simulator's grid with white measurement noise of known standard deviation
   ``noise_deg``. Residuals ``r(p) = (theta_model(p) - theta_meas)/noise_deg``.
-* Fit: optimistix Levenberg-Marquardt on ``log p`` (positivity), Jacobian by forward mode
-  (``jax.jacfwd`` / ``jac="fwd"``): for <= 10 parameters one forward pass per parameter is cheaper
-  than reverse mode through a long ``lax.scan`` (docs/performance.md, "Derivatives").
+* Fit: the package's Levenberg-Marquardt (:func:`lugre_jax._fit.least_squares`) on ``log p``
+  (positivity), Jacobian by forward mode (``jax.jacfwd`` / ``jac="fwd"``): for <= 10 parameters one
+  forward pass per parameter is cheaper than reverse mode through a long ``lax.scan``
+  (docs/performance.md, "Derivatives").
 * Uncertainty: Fisher information ``F = J^T J`` of the whitened residuals at the estimate, standard
   errors ``sqrt(diag(F^-1))`` (Cramer-Rao bound for unbiased estimators); an eigenvalue of ``F`` near
   zero (relative SE >> 1) means the recording does not determine that direction.
@@ -28,6 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
+from .._fit import LogTransform, information_inverse, least_squares
 from .._simulation import RESULT_OK, FixedStep, System, simulate
 
 
@@ -45,16 +47,10 @@ def fisher_information(build, p, duration_s: float, sample_hz: float, noise_deg:
 
 
 def standard_errors_from_fisher(F) -> np.ndarray:
-    """``sqrt(diag(F^-1))``; ``inf`` for directions the Fisher matrix does not inform (pseudo-inverse
-    with relative cut-off 1e-12)."""
-    F = np.asarray(F, dtype=np.float64)
-    w, V = np.linalg.eigh(F)
-    ok = w > 1e-12 * max(w.max(), 1e-300)
-    inv = (V[:, ok] / w[ok]) @ V[:, ok].T
-    se = np.sqrt(np.clip(np.diag(inv), 0, None))
-    # A direction with (numerically) zero information leaves the parameters it touches undetermined.
-    dead = (np.abs(V[:, ~ok]) > 1e-3).any(axis=1) if (~ok).any() else np.zeros(len(w), bool)
-    return np.where(dead, np.inf, se)
+    """``sqrt(diag(F^-1))``; ``inf`` for parameters along a direction the Fisher matrix does not
+    inform (the package's one covariance, :func:`lugre_jax._fit.information_inverse`)."""
+    inv, _ = information_inverse(F)
+    return np.sqrt(np.clip(np.diag(inv), 0, None))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -85,17 +81,17 @@ def fit_dynamic(build, theta_meas, p0, *, duration_s: float, sample_hz: float, n
     if np.any(p0 <= 0):
         raise ValueError(f"p0 must be positive (the fit works on log p), got {p0}")
 
-    def resid(logp, _):
-        th, res = theta_response(build, jnp.exp(logp), duration_s, sample_hz)
+    def resid(p):
+        th, res = theta_response(build, p, duration_s, sample_hz)
         r = (th - theta_meas) / noise_deg
         # A failed simulation is an infinitely bad fit, never a silent NaN.
         return jnp.where(res == RESULT_OK, r, 1e10)
 
-    sol = optx.least_squares(resid, optx.LevenbergMarquardt(rtol=rtol, atol=atol), jnp.log(jnp.asarray(p0)),
-                             options=dict(jac="fwd"), max_steps=max_steps, throw=False)
-    p = np.exp(np.asarray(sol.value))
+    x, sol = least_squares(resid, jnp.asarray(p0), LogTransform(), rtol=rtol, atol=atol, max_steps=max_steps,
+                           jac="fwd")
+    p = np.asarray(x)
     F = np.asarray(fisher_information(build, p, duration_s, sample_hz, noise_deg))
-    r = np.asarray(resid(jnp.log(jnp.asarray(p)), None))
+    r = np.asarray(resid(jnp.asarray(p)))
     return DynamicFit(tuple(names or [f"p{i}" for i in range(len(p))]), p, standard_errors_from_fisher(F), F,
                       float(np.sqrt(np.mean(r**2))), bool(sol.result == optx.RESULTS.successful),
                       int(sol.stats["num_steps"]))

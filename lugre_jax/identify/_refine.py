@@ -1,12 +1,10 @@
 """Gradient refinement of a global optimiser's best point (an extension of Li et al., Electronics 2020,
 9, 284, section 4.2, which stops at GA-PSO).
 
-Levenberg-Marquardt (``optimistix.LevenbergMarquardt``) on a residual function, or BFGS
-(``optimistix.BFGS``) on the scalar loss. The box is respected by a change of variables: each
-bounded parameter is ``x = lower + (upper - lower) * sigmoid(u)`` and the solver works on the
-unconstrained ``u``; a start on (or numerically at) a bound is pulled inside by ``edge`` of the range
-first, because ``logit`` of a bound is infinite. Half-bounded parameters use a softplus, unbounded
-ones the identity.
+Levenberg-Marquardt on a residual function (the package's bounded least squares,
+:func:`lugre_jax._fit.least_squares`), or BFGS (``optimistix.BFGS``) on the scalar loss. The box is
+respected by the same change of variables for both (:class:`~lugre_jax._fit.BoxTransform`: a
+sigmoid onto each finite range, a softplus onto a half-line, the identity when unbounded).
 
 Solvers run with ``throw=False``: a failure comes back as an ``optimistix.RESULTS`` code (and a
 non-finite final loss is replaced by the starting point and its loss) -- never as a silent NaN.
@@ -15,48 +13,14 @@ non-finite final loss is replaced by the starting point and its loss) -- never a
 from __future__ import annotations
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 import optimistix as optx
 
+from .._fit import BoxTransform, least_squares, result_name
 from .._types import Array, Float, Int, Scalar
 from ._fitness import LossFn, ResidualFn, finite_or_inf, half_sse
 
-
-class BoxTransform(eqx.Module):
-    """Bijection between the box ``[lower, upper]`` and R^dim (per component)."""
-
-    lower: Float[Array, " dim"]
-    upper: Float[Array, " dim"]
-    edge: float = eqx.field(static=True, default=1e-9)
-
-    def to_box(self, u: Float[Array, " dim"]) -> Float[Array, " dim"]:
-        lo, hi = self.lower, self.upper
-        both = jnp.isfinite(lo) & jnp.isfinite(hi)
-        lo_only = jnp.isfinite(lo) & ~jnp.isfinite(hi)
-        hi_only = ~jnp.isfinite(lo) & jnp.isfinite(hi)
-        lo_s = jnp.where(jnp.isfinite(lo), lo, 0.0)
-        hi_s = jnp.where(jnp.isfinite(hi), hi, 1.0)
-        boxed = lo_s + (hi_s - lo_s) * jax.nn.sigmoid(u)
-        return jnp.where(
-            both, boxed, jnp.where(lo_only, lo_s + jax.nn.softplus(u), jnp.where(hi_only, hi_s - jax.nn.softplus(-u), u))
-        )
-
-    def from_box(self, x: Float[Array, " dim"]) -> Float[Array, " dim"]:
-        lo, hi = self.lower, self.upper
-        both = jnp.isfinite(lo) & jnp.isfinite(hi)
-        lo_only = jnp.isfinite(lo) & ~jnp.isfinite(hi)
-        hi_only = ~jnp.isfinite(lo) & jnp.isfinite(hi)
-        lo_s = jnp.where(jnp.isfinite(lo), lo, 0.0)
-        hi_s = jnp.where(jnp.isfinite(hi), hi, 1.0)
-        t = jnp.clip((x - lo_s) / (hi_s - lo_s), self.edge, 1 - self.edge)
-        # softplus^-1(y) = y + log(-expm1(-y)), with y kept positive
-        y_lo = jnp.maximum(x - lo_s, self.edge)
-        y_hi = jnp.maximum(hi_s - x, self.edge)
-        inv_sp = lambda y: y + jnp.log(-jnp.expm1(-y))  # noqa: E731
-        return jnp.where(
-            both, jnp.log(t) - jnp.log1p(-t), jnp.where(lo_only, inv_sp(y_lo), jnp.where(hi_only, -inv_sp(y_hi), x))
-        )
+__all__ = ["BoxTransform", "Refine", "RefineResult", "result_name"]
 
 
 class RefineResult(eqx.Module):
@@ -106,21 +70,18 @@ class Refine(eqx.Module):
         upper = jnp.asarray(upper, dtype=jnp.float64)
         box = BoxTransform(lower, upper)
         x0 = jnp.clip(jnp.asarray(x0, dtype=jnp.float64), lower, upper)
-        u0 = box.from_box(x0)
         if self.method == "lm":
             if residual_fn is None:
                 raise ValueError("Levenberg-Marquardt refinement needs residual_fn (params -> residual vector)")
-            fn = lambda u, _: residual_fn(box.to_box(u))  # noqa: E731
             objective = lambda x: half_sse(residual_fn(x))  # noqa: E731
-            sol = optx.least_squares(
-                fn, optx.LevenbergMarquardt(rtol=self.rtol, atol=self.atol), u0, max_steps=self.max_steps, throw=False
-            )
+            _, sol = least_squares(residual_fn, x0, box, rtol=self.rtol, atol=self.atol, max_steps=self.max_steps)
         else:
             if loss_fn is None and residual_fn is None:
                 raise ValueError("BFGS refinement needs loss_fn or residual_fn")
             objective = loss_fn if loss_fn is not None else (lambda x: half_sse(residual_fn(x)))
             fn = lambda u, _: objective(box.to_box(u))  # noqa: E731
-            sol = optx.minimise(fn, optx.BFGS(rtol=self.rtol, atol=self.atol), u0, max_steps=self.max_steps, throw=False)
+            sol = optx.minimise(fn, optx.BFGS(rtol=self.rtol, atol=self.atol), box.from_box(x0),
+                                max_steps=self.max_steps, throw=False)
         x = box.to_box(sol.value)
         loss = finite_or_inf(objective(x))
         loss0 = finite_or_inf(objective(x0))
@@ -132,13 +93,3 @@ class Refine(eqx.Module):
         n_evals = n_steps * (1 + x0.shape[0]) + 2
         return RefineResult(x, loss, x0, loss0, sol.result._value, n_steps, n_evals)
 
-
-def result_name(code) -> str:
-    """Name of an ``optimistix.RESULTS`` item from its integer index (e.g. ``"successful"``)."""
-    if isinstance(code, optx.RESULTS):
-        code = code._value
-    idx = int(jnp.asarray(code))
-    for name, item in optx.RESULTS._name_to_item.items():
-        if int(item._value) == idx:
-            return name
-    return f"unknown({idx})"

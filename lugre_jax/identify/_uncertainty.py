@@ -19,44 +19,20 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable, Sequence
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._fit import at_bounds, covariance, information_inverse, jacobian
 from .._types import Array, Float
 
 POOR_RELATIVE_SE = 0.20  # a parameter with SE above 20 % of its value is "poorly determined"
 STRONG_CORRELATION = 0.95
 
 
-def jacobian(residual_fn: Callable, x: Float[Array, " p"]) -> np.ndarray:
-    """``d residual / d x`` at ``x`` (forward mode), as a float64 numpy array of shape (n, p)."""
-    return np.asarray(jax.jacfwd(residual_fn)(jnp.asarray(x, dtype=jnp.float64)))
-
-
 def fisher_information(residual_fn: Callable, x: Float[Array, " p"]) -> np.ndarray:
     """Fisher information ``J^T J`` of standardised residuals (unit-variance errors) at ``x``."""
     J = jacobian(residual_fn, x)
     return J.T @ J
-
-
-def _inverse(info: np.ndarray) -> tuple[np.ndarray, float]:
-    """Inverse and condition number of a symmetric information matrix, scaled to unit diagonal first
-    so that parameters of very different magnitude do not fake ill-conditioning. Directions the data
-    do not inform (eigenvalues below 1e-12 of the largest) get infinite variance, never zero."""
-    d = np.sqrt(np.clip(np.diag(info), 1e-300, None))
-    scaled = info / np.outer(d, d)
-    w, U = np.linalg.eigh(scaled)
-    cond = float(w[-1] / w[0]) if w[0] > 0 else float("inf")
-    keep = w > 1e-12 * w[-1]
-    inv = (U[:, keep] / w[keep]) @ U[:, keep].T / np.outer(d, d)
-    null_weight = np.sum(U[:, ~keep] ** 2, axis=1)
-    lost = null_weight > 1e-6
-    if lost.any():
-        inv = inv.copy()
-        inv[lost, :] = np.inf
-        inv[:, lost] = np.inf
-    return inv, cond
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,7 +78,8 @@ def identifiability_statement(names: Sequence[str], x, se, corr, cond: float, at
             parts.append(f"{n} is poorly determined (relative SE {txt})")
     for n, xi in zip(names, x):
         if at_bound is not None and n in at_bound:
-            parts.append(f"{n} = {xi:.4g} sits on its bound (the unconstrained optimum may lie outside the range; its SE is only indicative)")
+            parts.append(f"{n} = {xi:.4g} sits on its bound (the constraint, not the data, holds it there: no "
+                         "standard error; the unconstrained optimum may lie outside the range)")
     p = len(names)
     for i in range(p):
         for j in range(i + 1, p):
@@ -127,32 +104,20 @@ def standard_errors(
 
     ``residual_fn(x)`` must return standardised residuals ``(model - data)/se``. With
     ``absolute_sigma=False`` (default) the covariance is multiplied by ``max(1, chi2/dof)``.
-    ``bounds=(lo, hi)`` lets the statement flag estimates that sit on a bound.
+    ``bounds=(lo, hi)``: an estimate on a bound gets an infinite standard error and the statement
+    says so (:func:`lugre_jax._fit.covariance`).
     """
     x = np.asarray(x, dtype=np.float64)
-    J = jacobian(residual_fn, x)
     r = np.asarray(residual_fn(jnp.asarray(x)))
-    info = J.T @ J
-    cov, cond = _inverse(info)
-    dof = int(r.size - x.size)
-    chi2_dof = float(np.sum(r**2) / dof) if dof > 0 else float("nan")
-    if not absolute_sigma:
-        cov = cov * (max(1.0, chi2_dof) if np.isfinite(chi2_dof) else np.nan)
-    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-    if dof <= 0:
-        se = np.full_like(se, np.nan)
-    d = np.sqrt(np.clip(np.diag(cov), 1e-300, None))
-    with np.errstate(invalid="ignore"):
-        corr = np.where(np.isfinite(np.outer(d, d)), cov / np.outer(d, d), np.nan)
-    at_bound = None
-    if bounds is not None:
-        lo, hi = (np.asarray(b, dtype=np.float64) for b in bounds)
-        tol = 1e-6 * np.maximum(hi - lo, 1e-300)
-        at_bound = [n for n, xi, a, b in zip(names, x, lo, hi) if xi - a < tol[list(names).index(n)] or b - xi < tol[list(names).index(n)]]
-    poor, text = identifiability_statement(names, x, se, corr, cond, at_bound)
-    if dof <= 0:
+    on_bound = None if bounds is None else at_bounds(x, *bounds)
+    c = covariance(jacobian(residual_fn, x), r, absolute_sigma=absolute_sigma, variance_floor=1.0,
+                   at_bound=on_bound)
+    at_bound = None if on_bound is None else [n for n, b in zip(names, on_bound) if b]
+    poor, text = identifiability_statement(names, x, c.standard_errors, c.correlation, c.condition_number, at_bound)
+    if c.dof <= 0:
         text = f"no degrees of freedom left ({r.size} data for {x.size} parameters): standard errors undefined; " + text
-    return Uncertainty(tuple(names), x, se, cov, corr, cond, chi2_dof, dof, poor, text)
+    return Uncertainty(tuple(names), x, c.standard_errors, c.covariance, c.correlation, c.condition_number,
+                       c.chi2_dof, c.dof, poor, text)
 
 
 def crlb(model_fn: Callable, x_true, velocity, noise_se) -> np.ndarray:
@@ -162,5 +127,5 @@ def crlb(model_fn: Callable, x_true, velocity, noise_se) -> np.ndarray:
     v = jnp.asarray(velocity, dtype=jnp.float64)
     s = jnp.broadcast_to(jnp.asarray(noise_se, dtype=jnp.float64), v.shape)
     info = fisher_information(lambda x: model_fn(x, v) / s, x_true)
-    inv, _ = _inverse(info)
+    inv, _ = information_inverse(info)
     return inv
