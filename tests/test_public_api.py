@@ -7,8 +7,11 @@ package; experiments may import nothing private.
 The library core (every other file of lugre_jax/) keeps its subpackages apart: a subpackage may import
 another subpackage's public names only (``from ..io import Recording``, not ``from ..io._recording
 import Recording``), may share the top-level private modules of the core (``_params``, ``_types``,
-``_simulation``, ``_fusion``), and never imports an application (``_cli``, ``cli``, ``reproduce``):
-:func:`library_violations`."""
+``_fit``, ``_simulation``, ``_fusion``), and never imports an application (``_cli``, ``cli``,
+``reproduce``): :func:`library_violations`.
+
+Each subpackage exports what a user calls: ``identify``'s names are listed here
+(:data:`IDENTIFY_PUBLIC`), so a helper that leaks into its ``__init__.py`` fails a test."""
 
 from __future__ import annotations
 
@@ -197,7 +200,7 @@ def library_violations(rel: str, repo: Path = REPO) -> list[tuple[str, str]]:
             continue
         owner = private.rsplit(".", 1)[0]
         if owner == "lugre_jax":
-            continue  # a top-level private module of the core (_params, _types, _simulation), shared
+            continue  # a top-level private module of the core (_params, _types, _fit, _simulation), shared
         if here == owner or here.startswith(owner + "."):
             continue  # the subpackage's own private module
         bad.append((private, f"{rel}:{line}: {stmt}"))
@@ -212,6 +215,7 @@ def test_the_library_checker_sees_boundary_crossings(tmp_path):
                                     "import lugre_jax.emps._fit\nfrom lugre_jax.reproduce import run_all\n",
         "lugre_jax/_simulation/_y.py": "from ..friction._models import LuGre\nfrom ._system import rates\n",
         "lugre_jax/metrics.py": "from .io._atomic import write_json\nfrom ._params import param\n",
+        "lugre_jax/dynamic/_z.py": "from .._fit import least_squares\nfrom ..identify._refine import BoxTransform\n",
     }
     for rel, text in files.items():
         (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
@@ -222,6 +226,7 @@ def test_the_library_checker_sees_boundary_crossings(tmp_path):
         "from .._cli._outputs import Outputs", "import lugre_jax.emps._fit", "from lugre_jax.reproduce import run_all"]
     assert got["lugre_jax/_simulation/_y.py"] == ["from ..friction._models import LuGre"]
     assert got["lugre_jax/metrics.py"] == ["from .io._atomic import write_json"]
+    assert got["lugre_jax/dynamic/_z.py"] == ["from ..identify._refine import BoxTransform"]
     assert "lugre_jax/identify/_schemes.py" in _library_files() and "lugre_jax/_cli/_bench.py" not in _library_files()
 
 
@@ -230,3 +235,37 @@ def test_library_subpackages_import_only_public_names_of_each_other():
     unexpected = [stmt for rel, vs in found.items() for mod, stmt in vs if KNOWN_LIBRARY.get(rel) != mod]
     assert not unexpected, ("imports across a subpackage boundary (use the other subpackage's public names, "
                             "exported in its __init__.py):\n" + "\n".join(unexpected))
+
+
+# ------------------------------------------------------------------------------ exported surfaces
+
+IDENTIFY_PUBLIC = {
+    # schemes and their results
+    "identify", "identify_whole", "identify_piecewise", "Identification", "SegmentFit", "Uncertainty",
+    # optimisers, their runner and results
+    "optimise", "OptimResult", "minimise", "RunResult", "AbstractOptimiser", "GA", "RealGA", "PSO", "GAPSO",
+    "CMAES", "DE", "Refine", "RefineResult", "result_name", "paper_fitness",
+    # data, boundaries and smoothing (section 4.2.1)
+    "sample_stribeck_data", "paper_like_velocities", "make_paper_like_samples", "table1_static_model",
+    "minimum_torque_velocity", "decel_branch", "Boundaries", "detect_boundaries", "auto_bounds",
+    "smooth_segments", "Smoothed", "SmoothingSpline", "SumOfSines", "fit_smoothing_spline", "fit_sum_of_sines",
+    "fit_tangent_branch",
+    # uncertainty
+    "standard_errors", "crlb",
+}
+
+
+def _exported(module) -> set[str]:
+    """Names bound in a package's ``__init__.py`` by ``from ... import X as X`` (the explicit re-export
+    form), read from its source."""
+    tree = ast.parse(Path(module.__file__).read_text())
+    return {a.asname for n in tree.body if isinstance(n, ast.ImportFrom) for a in n.names if a.asname == a.name}
+
+
+def test_identify_exports_exactly_its_public_surface():
+    import lugre_jax.identify as identify
+
+    got = _exported(identify)
+    assert got == IDENTIFY_PUBLIC, (f"not public, remove from identify/__init__.py: {sorted(got - IDENTIFY_PUBLIC)}; "
+                                    f"missing: {sorted(IDENTIFY_PUBLIC - got)}")
+    assert all(hasattr(identify, n) for n in IDENTIFY_PUBLIC)

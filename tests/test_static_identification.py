@@ -13,7 +13,6 @@ from lugre_jax.cli import main as cli_main
 from lugre_jax.friction import CoulombViscous, Stribeck, bounds_of, from_vector, names_of, units_of
 from lugre_jax.identify import (
     auto_bounds,
-    check_bounds_fit,
     crlb,
     detect_boundaries,
     fit_smoothing_spline,
@@ -28,6 +27,7 @@ from lugre_jax.identify import (
     standard_errors,
     table1_static_model,
 )
+from lugre_jax.identify._schemes import check_bounds_fit  # internals under test
 from lugre_jax.io import summarise_samples
 from lugre_jax.plant import TABLE1
 

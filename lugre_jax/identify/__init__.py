@@ -1,23 +1,22 @@
 """Static friction identification (paper section 4.2): GA, PSO, GA-PSO, gradient refinement, baselines,
-whole/piecewise schemes and uncertainty."""
+whole/piecewise schemes and uncertainty.
 
-# --- optimisers (owned by the optimiser module authors) ---
-from ._baselines import CMAES as CMAES, DE as DE, EvosaxState as EvosaxState, scipy_least_squares as scipy_least_squares
-from ._fitness import (
-    RunResult as RunResult,
-    evaluate as evaluate,
-    finite_or_inf as finite_or_inf,
-    half_sse as half_sse,
-    loss_from_residual as loss_from_residual,
-    paper_fitness as paper_fitness,
-)
+The public surface is what a user calls and the results it returns: the schemes (``identify``,
+``identify_whole``, ``identify_piecewise``) and their results, the optimisers and their runner
+(``optimise``, ``minimise``), the paper-like data, the boundary detection and smoothing of section
+4.2.1, and the standard errors. Optimiser states, encodings and objective builders stay in their
+modules.
+"""
+
+# --- optimisers ---
+from ._baselines import CMAES as CMAES, DE as DE
+from ._fitness import RunResult as RunResult, paper_fitness as paper_fitness
 from ._optimiser import AbstractOptimiser as AbstractOptimiser, minimise as minimise
-from ._ga import GA as GA, GAState as GAState, RealGA as RealGA, decode as decode, encode as encode
-from ._gapso import GAPSO as GAPSO, GAPSOState as GAPSOState
-from ._pso import PSO as PSO, PSOState as PSOState, hash_uniform as hash_uniform
-from ._refine import BoxTransform as BoxTransform, Refine as Refine, RefineResult as RefineResult, result_name as result_name
-from ._run import METHODS as METHODS, OptimResult as OptimResult, make_optimiser as make_optimiser, optimise as optimise
-# --- end optimisers ---
+from ._ga import GA as GA, RealGA as RealGA
+from ._gapso import GAPSO as GAPSO
+from ._pso import PSO as PSO
+from ._refine import Refine as Refine, RefineResult as RefineResult, result_name as result_name
+from ._run import OptimResult as OptimResult, optimise as optimise
 
 # --- schemes, data, uncertainty ---
 from ._data_gen import (
@@ -27,7 +26,6 @@ from ._data_gen import (
     paper_like_velocities as paper_like_velocities,
     sample_stribeck_data as sample_stribeck_data,
     table1_static_model as table1_static_model,
-    write_paper_like_csv as write_paper_like_csv,
 )
 from ._schemes import (
     Boundaries as Boundaries,
@@ -35,12 +33,10 @@ from ._schemes import (
     SegmentFit as SegmentFit,
     Smoothed as Smoothed,
     auto_bounds as auto_bounds,
-    check_bounds_fit as check_bounds_fit,
     detect_boundaries as detect_boundaries,
     identify as identify,
     identify_piecewise as identify_piecewise,
     identify_whole as identify_whole,
-    make_objective as make_objective,
     smooth_segments as smooth_segments,
 )
 from ._smoothing import (
@@ -50,11 +46,4 @@ from ._smoothing import (
     fit_sum_of_sines as fit_sum_of_sines,
     fit_tangent_branch as fit_tangent_branch,
 )
-from ._uncertainty import (
-    Uncertainty as Uncertainty,
-    crlb as crlb,
-    fisher_information as fisher_information,
-    identifiability_statement as identifiability_statement,
-    standard_errors as standard_errors,
-)
-# --- end schemes ---
+from ._uncertainty import Uncertainty as Uncertainty, crlb as crlb, standard_errors as standard_errors
