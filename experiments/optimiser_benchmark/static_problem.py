@@ -11,8 +11,8 @@ sigma2 2.9804). Bounds: section 4.2.2 (Fc, Fs, sigma2 in [0, 10], vs in [0, 1]).
   problem of its Fig. 5;
 * ``"whole"``: 92 points log-spaced over [0.001, 1.5] deg/s -- the whole-range problem.
 
-The loss is vectorised over the points and costs one ``exp`` per point: ``(v/vs)^2`` is written as a
-square, not as ``exp(delta*log(...))``. ``tests/test_optimisers.py`` checks it against
+The loss is vectorised over the points and costs one ``exp`` per point (``delta = 2`` is a square,
+not ``exp(delta*log(...))``). ``tests/test_optimisers.py`` checks it against
 ``lugre_jax.Stribeck.steady_state``.
 """
 
@@ -22,6 +22,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from lugre_jax.friction import stribeck_curve
+
 TRUTH_SEGMENT1 = np.array([0.9150, 6.4808, 0.0315, 2.9804])  # Fc, Fs, vs, sigma2
 LOWER = np.array([0.0, 0.0, 0.0, 0.0])
 UPPER = np.array([10.0, 10.0, 1.0, 10.0])
@@ -30,10 +32,9 @@ NOISE_SD = 0.015  # N*m
 
 
 def stribeck(p, v):
-    """Eq. (10) for v > 0, delta = 2: torque [N*m] at velocities ``v`` [deg/s]; ``p = (Fc, Fs, vs, sigma2)``."""
-    Fc, Fs, vs, s2 = p[0], p[1], p[2], p[3]
-    # one reciprocal per parameter set instead of a division per point (division is the slow op)
-    return Fc + (Fs - Fc) * jnp.exp(-jnp.square(v * (1.0 / vs))) + s2 * v
+    """Eq. (10), delta = 2: torque [N*m] at velocities ``v`` [deg/s]; ``p = (Fc, Fs, vs, sigma2)`` (the
+    package's one Stribeck curve)."""
+    return stribeck_curve(v, p[0], p[1], p[2], p[3])
 
 
 def stribeck_np(P, v):

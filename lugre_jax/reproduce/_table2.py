@@ -65,7 +65,7 @@ def table2(setup: Setup, *, quick: bool = False, key=None) -> dict:
                           sigma2_identified=seg["sigma2"]) for k, seg in enumerate(pw)}
 
     common = dict(paper=paper, J_implied_by_eq18=J_implied, J_used=J, presliding_steps=steps, route1_paper_method=route1)
-    if quick:  # the forward-mode LM compile alone takes ~30 s; skipped in the smoke run
+    if quick:  # the forward-mode LM's compilation would dominate the smoke run
         return dict(common, route2_time_series=None, fit=None, recording=None)
 
     # Route 2: LM through the simulator on a noisy ramp recording, 6 parameters
