@@ -23,8 +23,8 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 ROOTS = ("experiments", "lugre_jax/reproduce", "lugre_jax/_cli")
 
-# Files that still reach into private modules, each with its reason (issue 16 leaves the experiment to
-# its owner). strict: the test fails once a file is clean, so the entry is removed with the fix.
+# Files that reach into private modules, each with its reason. strict: the test fails once a file is
+# clean, so the entry is removed with the fix.
 KNOWN = {
     "experiments/diagnose_emps/run.py": "lugre_jax.diagnose._model, ._select, lugre_jax.io._emps, ._recording",
     # rhs_floor times the time loop's own right-hand side on its internal state layout, not API:

@@ -30,7 +30,7 @@ from ._optimiser import AbstractOptimiser
 def _evosax():
     # Imported on first use: importing evosax.algorithms creates arrays, which starts the XLA
     # backend -- at package import that would freeze the host device count before the CLI can set
-    # it (`lugre-jax bench` then saw one device instead of two).
+    # it.
     from evosax import algorithms
 
     return algorithms

@@ -95,7 +95,7 @@ class OptimResult:
         )
 
 
-# Step counts had three names before one (max_steps); name the new one instead of "unknown setting".
+# Other names for a step count: a setting with one of them is told the name to use.
 _RENAMED = {"generations": "max_steps", "n_iterations": "max_steps", "ga_generations": "ga_steps"}
 
 

@@ -117,7 +117,7 @@ def row_fig08(R, S):
            "PI must build against ~6.4 N*m of friction, so the cascade is *better* than Fig. 9c, the opposite of the "
            "paper's remark that Fig. 9c is 'a bit better than the open-loop control in Fig. 8'. No stick-slip appears: "
            "with Table 2's sigma0 the pre-sliding range is Fs/sigma0 = 0.058 deg, and the PI's stiffness keeps the "
-           "joint sliding smoothly once it breaks away. Read as open loop (as the issue does), a feedforward of the "
+           "joint sliding smoothly once it breaks away. Read as open loop (the other reading of Fig. 8), a feedforward of the "
            "identified friction with no feedback cannot hold 0.005 deg/s at all: the Stribeck curve falls with "
            "velocity, so any torque that breaks the joint away accelerates it (no stable creep either).")
     return _row("Fig. 8", "0.005 deg/s step, position and velocity loops closed: errors and serious creeping",

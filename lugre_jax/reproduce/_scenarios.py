@@ -131,7 +131,7 @@ def fig08(setup: Setup) -> dict:
     """Fig. 8: 0.005 deg/s step, position and velocity loops closed, no compensation."""
     traces, met = _step(setup, {"PID cascade (position + velocity)": setup.position_pid(),
                                 "PID velocity loop only (Fig. 9c)": setup.velocity_pid()})
-    # Open loop (how the issue reads Fig. 8): the identified model's steady-state torque at the
+    # Open loop (the other reading of Fig. 8): the identified model's steady-state torque at the
     # commanded velocity, applied with no feedback. Once the joint breaks away it runs away, and the
     # bristle dynamics at hundreds of deg/s are stiff: the adaptive implicit solver handles it.
     label = "open loop (feedforward of identified F(v), no feedback)"
