@@ -458,7 +458,7 @@ HEADER = """# Malformed input: what each command says
 Every command checks its arguments and every output path before it starts work, most of them
 before JAX and the package are even imported (`lugre-jax --help`, an argument error or an unusable
 `--out` answers in about 0.2 s: docs/performance.md). Bad input ends the command with exit code 2
-and one line on stderr, `lugre-jax COMMAND: error: ...`, naming the flag or the file, the line or
+and one line on stderr, "lugre-jax COMMAND: error: ...", naming the flag or the file, the line or
 key, and what was expected; nothing is written. Ctrl-C ends a command with exit code 130, SIGTERM
 with 143, one line, nothing half-written (`tests/test_interrupt.py`; the last two rows below).
 
