@@ -354,3 +354,45 @@ def test_order_five_noise_band_is_not_a_line():
     assert c["order"] == 3 or c["accel_noise_torque"] <= 0.5 * c["torque_noise"], c
     assert rep.verdict == "none", (rep.verdict, rep.selection_log)
     assert rep.baseline.floor_ratio < 1.1
+
+
+def _run_module():
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "experiments" / "diagnose_independent" / "run.py"
+    spec = importlib.util.spec_from_file_location("diagnose_independent_run", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_rebuilt_studies_cover_their_design():
+    """The calib, fresh3 and outside studies as committed (no generation, no diagnosis): calib has
+    >= 44 effect-free rows with every excitation x loop x sensor set, white and AR(1) noise, >= 2
+    plants, 100-1,000 Hz; fresh3 three rows per in-library effect (expected: its id) and eight
+    effect-free rows on plants no earlier study used; outside two rows per outside effect; every
+    recording <= 60 s and <= 60,000 samples; keys unique."""
+    run = _run_module()
+    calib, fresh3, outside = run.calib_settings(), run.fresh3_settings(), run.outside_settings()
+    for rows in (calib, fresh3, outside):
+        assert len({r["key"] for r in rows}) == len(rows)
+        for r in rows:
+            exc = run.excitation_of(r["excitation"], r["fs"], r["seed"], kw=r["excitation_kw"])
+            assert exc.duration <= 60.0 and exc.duration * r["fs"] + 1 <= 60_000, r["key"]
+            assert 100.0 <= r["fs"] <= 1000.0
+            run.controller_of(r)
+            run.effects_of(r)
+    assert len(calib) >= 44 and all(r["expected"] == "none" and not r["effects"] for r in calib)
+    combos = {(r["excitation"], r["controller"].startswith("pid"), r["position_column"], r["velocity_column"])
+              for r in calib}
+    assert len(combos) == 6 * 2 * 3
+    assert {r["torque_noise_ar"] > 0 for r in calib} == {True, False} and len({r["plant"] for r in calib}) >= 2
+    effects = [r for r in fresh3 if r["expected"] != "none"]
+    assert len(effects) == 24 and len(fresh3) - len(effects) == 8
+    assert sorted(r["expected"] for r in effects) == sorted(3 * list(T.EFFECTS))
+    assert all(r["effects"] == [r["expected"]] for r in effects)
+    used_before = {"issue", "paper_like", "light", "heavy", "medium", "flat"}
+    assert not {r["plant"] for r in fresh3 + outside} & used_before
+    assert sorted(r["effects"][0] for r in outside) == sorted(2 * list(T.OUTSIDE_EFFECTS))
+    assert all(r["expected"] == "unexplained" and r["expected_dependence"] for r in outside)

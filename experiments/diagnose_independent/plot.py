@@ -1,10 +1,14 @@
 """Tables and figures of the independent-recording study (``run.py``): null recordings (verdict,
 baseline-to-floor ratio), issue #20's recording kind, the concealed-level proof table, and the
-held-out and fresh held-out sets.
+held-out and fresh held-out sets; with ``--new`` the studies of the rebuilt diagnosis (calib,
+fresh3, outside): the null rate of ``none``, the noise floor against the true torque noise std,
+the exact-verdict rate, and for effects outside the library the dependence the report attributes.
 
     python experiments/diagnose_independent/plot.py [--out experiments/diagnose_independent/results]
+    python experiments/diagnose_independent/plot.py --new
 
-Writes ``summary.md`` (the tables quoted in docs/diagnosis.md) and ``null_floor_ratio.png``.
+Writes ``summary.md`` (the tables quoted in docs/diagnosis.md) and ``null_floor_ratio.png``, or
+with ``--new`` ``summary_rebuilt.md``.
 """
 
 from __future__ import annotations
@@ -84,11 +88,84 @@ def null_table(null, title, figure):
     return lines
 
 
+def _dependence(row):
+    """Whatever the report says the unexplained residual depends on (the field's name may vary:
+    ``attribution``, ``depends_on``, ``dependence``, ``signals`` in a missing-physics entry's
+    ``params`` or on the entry itself); '-' when there is none."""
+    keys = ("attribution", "depends_on", "dependence", "signals", "term")
+    found = []
+    for m in row.get("missing_physics") or []:
+        if not isinstance(m, dict):
+            continue
+        for place in (m.get("params") or {}, m):
+            for k in keys:
+                if isinstance(place, dict) and place.get(k) not in (None, "", [], {}):
+                    v = place[k]
+                    found.append(v if isinstance(v, str) else json.dumps(v, default=str)[:160])
+    return "; ".join(dict.fromkeys(found)) or "-"
+
+
+def new_study_tables(out):
+    """Summary of the calib, fresh3 and outside studies (results/<study>/runs_<study>.jsonl):
+    verdict rates, and the noise floor against the TRUE torque noise std of each recording."""
+    lines = []
+    for study in ("calib", "fresh3", "outside"):
+        rows = load(out / study / f"runs_{study}.jsonl")
+        if not rows:
+            continue
+        nulls = [r for r in rows if r["expected"] == "none"]
+        effects = [r for r in rows if r["expected"] != "none"]
+        lines += [f"## Study {study} ({len(rows)} rows)", ""]
+        if nulls:
+            ratios = np.array([r["floor_over_true_noise"] for r in nulls])
+            none = sum(r["verdict"] == "none" for r in nulls)
+            worst = nulls[int(np.argmax(np.abs(ratios - 1)))]
+            lines += [f"Effect-free: `none` in {none}/{len(nulls)} ({100 * none / len(nulls):.0f} %); noise floor / "
+                      f"true torque noise std: median {np.median(ratios):.3f}, min {ratios.min():.3f}, max "
+                      f"{ratios.max():.3f}; within 10 %: {int(np.sum(np.abs(ratios - 1) <= 0.1))}/{len(nulls)} "
+                      f"(farthest: {worst['key']}, {worst['floor_over_true_noise']:.3f})", ""]
+        if effects:
+            ok = sum(r["verdict"] == r["expected"] for r in effects)
+            lines += [f"Effects: verdict exactly as expected (no extras) in {ok}/{len(effects)} "
+                      f"({100 * ok / len(effects):.0f} %)", ""]
+            if study == "outside":
+                lines += [f"`unexplained` in {sum('unexplained' in r['named'] for r in effects)}/{len(effects)}", ""]
+        secs = [r["seconds_diagnose"] for r in rows]
+        lines += [f"Diagnosis time: median {np.median(secs):.0f} s, max {max(secs):.0f} s "
+                  f"(samples: median {int(np.median([r['n_samples'] for r in rows]))}, max "
+                  f"{max(r['n_samples'] for r in rows)})", "",
+                  "| key | plant | loop | excitation | fs | sensors | noise (AR) | peak / noise | expected | verdict | "
+                  "floor / true noise | val. RMSE before -> after | dependence reported | s |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for r in sorted(rows, key=lambda r: r["key"]):
+            sensors = "+".join(k for k, on in (("pos", r.get("position_column", True)), ("vel", r["velocity_column"])) if on)
+            exp = r["expected"] + (f" ({r['expected_dependence']})" if r.get("expected_dependence") else "")
+            before, after = r.get("baseline_val_rmse"), r.get("improved_val_rmse")
+            rmse = f"{before:.4f} -> {after:.4f}" if before is not None and after is not None else "-"
+            peak = r.get("peak_over_noise")
+            lines.append(f"| {r['key']} | {r['plant']} | {r.get('controller', 'pi')} | {r['excitation']} | {r['fs']:.0f} | "
+                         f"{sensors} | {r['torque_noise']} ({r.get('torque_noise_ar', 0.0):g}) | "
+                         f"{'-' if peak is None else f'{peak:.2f}'} | {exp} | {r['verdict']} | "
+                         f"{r['floor_over_true_noise']:.3f} | {rmse} | {_dependence(r)} | {r['seconds_diagnose']:.0f} |")
+        lines.append("")
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
+    ap.add_argument("--new", action="store_true",
+                    help="only the calib, fresh3 and outside studies, to <out>/summary_rebuilt.md")
     a = ap.parse_args()
     out = Path(a.out)
+    if a.new:
+        lines = new_study_tables(out)
+        if not lines:
+            print(f"no runs of calib, fresh3 or outside under {out} (runs_<study>.jsonl in <out>/<study>/)")
+            return
+        (out / "summary_rebuilt.md").write_text("\n".join(lines) + "\n")
+        print("\n".join(lines))
+        return
     null, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "proof"))
     issue = load(out / "issue_final" / "runs_issue.jsonl") or load(out / "runs_issue.jsonl")
     held = load(out / "heldout" / "runs_heldout.jsonl")

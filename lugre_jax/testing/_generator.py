@@ -773,7 +773,8 @@ def generate(excitation: Excitation | None = None, effects=(), plant: Plant | No
     sens = sensors or Sensors()
     effects = tuple(effects)
     T = float(exc.duration)
-    ts = np.arange(0.0, T + 0.5 / sens.fs, 1.0 / sens.fs)
+    # arange's last sample can overshoot T by a rounding error (solve_ivp refuses it)
+    ts = np.minimum(np.arange(0.0, T + 0.5 / sens.fs, 1.0 / sens.fs), T)
     rhs = _RHS(plant, pi, exc, effects, 0.5 * T)
     y = np.zeros(rhs.n)
     edges = [0.0] + [b for b in exc.breakpoints() if 0 < b < T] + [T]
