@@ -1,11 +1,13 @@
 """Diagnose model-reality mismatch: locate residual structure, name missing physics, refit.
 
 Inverse LuGre joint model of Li et al. (Electronics 2020, 9, 284), fitted by Levenberg-Marquardt;
-residual tests with Holm-controlled false-alarm rate; a library of candidate physics selected by
-validation error and BIC. Entry point: :func:`diagnose`, which returns a :class:`Diagnosis`
+residual tests with Holm-controlled false-alarm rate; a library of candidate physics, each named
+only when its gain beats a null distribution simulated for the recording (family-wise at one
+stated alpha, :class:`DiagnoseConfig`) and it lowers the held-out error. Entry point: :func:`diagnose`, which returns a :class:`Diagnosis`
 (``to_json()`` is REPORT.json).
 """
 
+from ._config import DiagnoseConfig as DiagnoseConfig
 from ._locate import holm as holm, locate as locate
 from ._model import (
     AbstractCandidate as AbstractCandidate,

@@ -210,6 +210,9 @@ ORDER5_NOISE_SHARE = 0.5
 # the torque noise; elsewhere (sharp transients seen through a long window) J*a is not known from
 # the samples, and the sample leaves the fit, the validation and the tests.
 RESOLVED_BIAS_SHARE = 0.5
+# torque noise below this share of the torque's range is rounding (a simulation written to CSV):
+# such a recording is used as loaded, since no smoothing is needed and every bias would count
+NOISE_FREE_SHARE = 1e-7
 
 
 def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False):
@@ -311,7 +314,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
         # direction of motion is not known from the samples, so neither is the friction
         bad |= maximum_filter1d((np.abs(v) < q / (W * dt)).astype(np.int8), W) > 0
     # the recording's own derivatives: kept as loaded where the lightest velocity window wins
-    use_recording = vel_meas and q == 0 and source == "velocity" and W == windows[0] and order == 3
+    noise_free = st <= NOISE_FREE_SHARE * max(float(np.ptp(rec.torque)), 1e-300)
+    use_recording = vel_meas and q == 0 and (noise_free or (source == "velocity" and W == windows[0]
+                                                             and order == 3))
     if vel_meas and q == 0 and not use_recording and rec.meta.get("acceleration_supplied", False):
         # an acceleration that came with the data (e.g. EMPS: computed upstream at ten times the
         # rate) has no window whose change measures its bias; the data decide between it and the

@@ -124,20 +124,20 @@ def reversal_info(t, v, V):
     return since, direction, n_rev
 
 
-def _extra_array(rec, key: str, like: np.ndarray) -> np.ndarray:
-    """``rec.extra[key]`` as a float array, zeros like ``like`` where the recording has none."""
-    x = rec.extra.get(key)
+def _extra_array(known, key: str, like: np.ndarray) -> np.ndarray:
+    """``known[key]`` as a float array, zeros like ``like`` where there is none."""
+    x = known.get(key)
     return np.zeros_like(like, dtype=float) if x is None else np.asarray(x, float)
 
 
-def _shape_bands(rec, r, blocks, moving, u, noise) -> list[dict]:
+def _shape_bands(rec, r, blocks, moving, u, noise, known) -> list[dict]:
     """The ``friction_shape`` tests (see ``binned_tests``): one per log-speed band, or none where
     the bands are too few to tell a shape from the baseline's own static shapes."""
     v = np.asarray(rec.velocity, float)
     sv = np.sign(v)
-    eiv = _extra_array(rec, "eiv_bias_nm", r)
-    cb = _extra_array(rec, "conditioning_bias_nm", r)
-    G = rec.extra.get("static_basis")
+    eiv = _extra_array(known, "eiv_bias_nm", r)
+    cb = _extra_array(known, "conditioning_bias_nm", r)
+    G = known.get("static_basis")
     G = np.zeros((r.size, 0)) if G is None else np.asarray(G, float).reshape(r.size, -1)
     mv = moving & (r != 0)
     if mv.sum() <= 40:
@@ -178,7 +178,8 @@ def _shape_bands(rec, r, blocks, moving, u, noise) -> list[dict]:
     return out
 
 
-def binned_tests(rec, r, blocks, scales) -> list[dict]:
+def binned_tests(rec, r, blocks, scales, known=None) -> list[dict]:
+    known = dict(rec.extra) if known is None else known
     t, th, v, a = (np.asarray(x) for x in (rec.time, rec.position, rec.velocity, rec.acceleration))
     V, A = scales["V"], scales["A"]
     u = rec.units
@@ -190,7 +191,7 @@ def binned_tests(rec, r, blocks, scales) -> list[dict]:
     # 9 % of its 0.08 N*m noise), which is not missing physics
     noise = float(scales.get("noise", 0.0))
     floor = noise * RESOLUTION
-    margin = _extra_array(rec, "conditioning_bias_nm", r) + floor
+    margin = _extra_array(known, "conditioning_bias_nm", r) + floor
 
     def add(kind, region, mask):
         res = cluster_mean_test(r, mask, blocks, margin=margin)
@@ -214,7 +215,7 @@ def binned_tests(rec, r, blocks, scales) -> list[dict]:
     # by noisy transients leaves a shape of that kind on the precise plateaus, and it is not missing
     # physics. Each band's margin is its own expected errors-in-variables mean (from the perturbed
     # kinematics, see diagnose), the conditioning bias, and SHAPE_RESOLUTION of the noise
-    out += _shape_bands(rec, r, blocks, moving, u, noise)
+    out += _shape_bands(rec, r, blocks, moving, u, noise, known)
     # position bins
     pe = np.unique(np.quantile(th, np.linspace(0, 1, 13)))
     for lo, hi in zip(pe[:-1], pe[1:]):
@@ -241,47 +242,64 @@ def binned_tests(rec, r, blocks, scales) -> list[dict]:
     return out
 
 
-def position_periodogram(theta, r, kappa, nbins: int = 2048, oversample: int = 4):
-    """Least-squares sinusoid fit vs position on finely binned data; returns grid, power, peaks, test."""
+def _position_lines(theta, R, nbins: int = 2048, oversample: int = 4):
+    """Least-squares sinusoid fits vs position of every row of ``R`` on finely binned data: the
+    frequency grid, each fit's drop of the sum of squares and its (cos, sin) coefficients."""
     theta = np.asarray(theta)
+    R = np.atleast_2d(np.asarray(R, float))
     span = float(np.ptp(theta))
     width = span / nbins
     idx = np.minimum(((theta - theta.min()) / width).astype(int), nbins - 1)
     cnt = np.bincount(idx, minlength=nbins).astype(float)
-    ssum = np.bincount(idx, weights=r, minlength=nbins)
     keep = cnt > 0
+    ssum = np.zeros((R.shape[0], nbins))
+    for i in range(R.shape[0]):
+        ssum[i] = np.bincount(idx, weights=R[i], minlength=nbins)
     x = theta.min() + (np.arange(nbins)[keep] + 0.5) * width
-    n, s = cnt[keep], ssum[keep]
-    s = s - n * (s.sum() / n.sum())  # remove the weighted mean
+    n, S = cnt[keep], ssum[:, keep]
+    S = S - np.outer(S.sum(1) / n.sum(), n)  # remove the weighted mean
     fmin, fmax = 0.5 / span, 1.0 / (4 * width)
     freqs = np.arange(fmin, fmax, 1.0 / (oversample * span))
-    drop = np.empty(freqs.size)
-    coef = np.empty((freqs.size, 2))
+    drop = np.empty((R.shape[0], freqs.size))
+    coef = np.empty((R.shape[0], freqs.size, 2))
     for i0 in range(0, freqs.size, 256):
         f = freqs[i0:i0 + 256, None]
         c, sn = np.cos(2 * np.pi * f * x), np.sin(2 * np.pi * f * x)
         cc, ss_, cs = (n * c * c).sum(1), (n * sn * sn).sum(1), (n * c * sn).sum(1)
-        bc, bs = (s * c).sum(1), (s * sn).sum(1)
+        bc, bs = S @ c.T, S @ sn.T
         det = cc * ss_ - cs ** 2
         ac = (ss_ * bc - cs * bs) / det
         as_ = (cc * bs - cs * bc) / det
-        drop[i0:i0 + 256] = ac * bc + as_ * bs
-        coef[i0:i0 + 256] = np.column_stack([ac, as_])
+        drop[:, i0:i0 + 256] = ac * bc + as_ * bs
+        coef[:, i0:i0 + 256] = np.stack([ac, as_], axis=-1)
+    return freqs, drop, coef, span, fmin, fmax
+
+
+def _peaks(freqs, z, coef, k: int = 5) -> list[dict]:
+    """Local maxima of z, strongest first, as ripple guesses."""
+    lm = np.flatnonzero((z[1:-1] > z[:-2]) & (z[1:-1] >= z[2:])) + 1
+    lm = lm[np.argsort(-z[lm])][:k]
+    return [{"period": float(1 / freqs[j]), "amplitude": float(np.hypot(*coef[j])),
+             "phase": float(np.arctan2(*coef[j])), "z": float(z[j])} for j in lm]
+
+
+def position_peaks_many(theta, R) -> list[list[dict]]:
+    """The position periodogram's peaks of every row of ``R`` (the scale of z does not change them)."""
+    freqs, drop, coef, *_ = _position_lines(theta, R)
+    return [_peaks(freqs, drop[i], coef[i]) for i in range(drop.shape[0])]
+
+
+def position_periodogram(theta, r, kappa, nbins: int = 2048, oversample: int = 4):
+    """Least-squares sinusoid fit vs position on finely binned data; returns grid, power, peaks, test."""
+    freqs, drop, coef, span, fmin, fmax = _position_lines(theta, r, nbins, oversample)
+    drop, coef = drop[0], coef[0]
     sigma2 = float(np.var(r)) * kappa
     z = drop / (2 * sigma2)  # chi2(2)/2 under H0 -> Exp(1)
     m_eff = max(1.0, span * (fmax - fmin))
     i = int(np.argmax(z))
     p_single = float(np.exp(-z[i]))
     p = float(-np.expm1(m_eff * np.log1p(-min(p_single, 1 - 1e-16)))) if p_single > 0 else 0.0
-    # peaks: local maxima of z, strongest first
-    lm = np.flatnonzero((z[1:-1] > z[:-2]) & (z[1:-1] >= z[2:])) + 1
-    lm = lm[np.argsort(-z[lm])][:5]
-    peaks = []
-    for j in lm:
-        ac, as_ = coef[j]
-        peaks.append({"period": float(1 / freqs[j]), "amplitude": float(np.hypot(ac, as_)),
-                      "phase": float(np.arctan2(ac, as_)), "z": float(z[j])})
-    return {"freqs": freqs, "z": z, "peaks": peaks, "p_value": p, "m_eff": m_eff,
+    return {"freqs": freqs, "z": z, "peaks": _peaks(freqs, z, coef), "p_value": p, "m_eff": m_eff,
             "statistic": float(z[i]), "period": float(1 / freqs[i])}
 
 
@@ -289,18 +307,62 @@ def _local_background(I, half_window: int, share: float = 1.0 / 3.0, min_half: i
     """Median of each ordinate's neighbours, over +-h_k = max(min_half, min(half_window, share*k))
     bins at bin k: a window proportional to the frequency at the low end, where the residual of an
     inverse model is red (errors in variables along a repeated excitation leave a hump there, not
-    a line), and ``half_window`` bins above. Returns (background, neighbours used per bin)."""
+    a line), and ``half_window`` bins above. Returns (background, neighbours used per bin); ``I``
+    may hold several periodograms, one per row."""
     from scipy.ndimage import median_filter
 
-    bg = median_filter(I, size=2 * half_window + 1, mode="reflect")
-    used = np.full(I.size, 2 * half_window + 1, float)
+    I2 = np.atleast_2d(I)
+    bg = median_filter(I2, size=(1, 2 * half_window + 1), mode="reflect")
+    m = I2.shape[1]
+    used = np.full(m, 2 * half_window + 1, float)
     k_full = int(np.ceil(half_window / share))
-    for k in range(min(k_full, I.size)):
+    for k in range(min(k_full, m)):
         h = max(min_half, int(share * (k + 1)))
-        lo, hi = max(0, k - h), min(I.size, k + h + 1)
-        nb = np.concatenate([I[lo:k], I[k + 1:hi]])
-        bg[k], used[k] = np.median(nb), nb.size
-    return bg, used
+        lo, hi = max(0, k - h), min(m, k + h + 1)
+        nb = np.concatenate([I2[:, lo:k], I2[:, k + 1:hi]], axis=1)
+        bg[:, k], used[k] = np.median(nb, axis=1), nb.shape[1]
+    return (bg[0] if np.ndim(I) == 1 else bg), used
+
+
+def _time_lines(t, R, half_window: int = 200):
+    R = np.atleast_2d(np.asarray(R, float))
+    n = R.shape[1]
+    dt = float(np.median(np.diff(t)))
+    X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), axis=1)
+    I = (np.abs(X) ** 2 / n)[:, 1:]
+    f = np.fft.rfftfreq(n, dt)[1:]
+    bg, used = _local_background(I, half_window)
+    ratio = I / np.maximum(bg / np.log(2), 1e-300)
+    nu = BACKGROUND_DOF * used
+    logp = -nu * np.log1p(ratio / nu)
+    # a line is a periodicity: at least MIN_PERIODS periods in the recording (slower structure is
+    # the time windows' and the drift candidate's; at the lowest ordinates a red hump and a line
+    # cannot be told apart by their neighbours)
+    logp[:, : MIN_PERIODS - 1] = 0.0
+    return f, I, ratio, logp
+
+
+def time_peaks_many(t, R, half_window: int = 200, stride: int = 16) -> np.ndarray:
+    """The time periodogram's strongest line [Hz] of every row of ``R``, for starting points: as
+    :func:`time_periodogram`, with the neighbours' median taken every ``stride`` ordinates and
+    interpolated between (a running median over hundreds of draws is otherwise the cost of the
+    whole test)."""
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    R = np.atleast_2d(np.asarray(R, float))
+    n = R.shape[1]
+    dt = float(np.median(np.diff(t)))
+    I = (np.abs(np.fft.rfft(R - R.mean(axis=1, keepdims=True), axis=1)) ** 2 / n)[:, 1:]
+    f = np.fft.rfftfreq(n, dt)[1:]
+    m = I.shape[1]
+    h = min(half_window, max(1, (m - 1) // 2))
+    padded = np.pad(I, ((0, 0), (h, h)), mode="reflect")
+    at = np.unique(np.r_[np.arange(0, m, stride), m - 1])
+    bg_at = np.median(sliding_window_view(padded, 2 * h + 1, axis=1)[:, at], axis=-1)
+    bg = np.stack([np.interp(np.arange(m), at, b) for b in bg_at])
+    ratio = I / np.maximum(bg / np.log(2), 1e-300)
+    ratio[:, : MIN_PERIODS - 1] = 0.0
+    return f[np.argmax(ratio, axis=1)]
 
 
 def time_periodogram(t, r, half_window: int = 200):
@@ -311,19 +373,8 @@ def time_periodogram(t, r, half_window: int = 200):
     single-ordinate p-value is (1 + R/nu)^-nu rather than exp(-R), with nu = BACKGROUND_DOF times
     the neighbours used (the median of N exponential ordinates is worth fewer degrees of freedom
     than their mean; the share is calibrated on white noise, see docs/diagnosis.md)."""
-    n = r.size
-    dt = float(np.median(np.diff(t)))
-    X = np.fft.rfft(r - r.mean())
-    I = (np.abs(X) ** 2 / n)[1:]
-    f = np.fft.rfftfreq(n, dt)[1:]
-    bg, used = _local_background(I, half_window)
-    R = I / np.maximum(bg / np.log(2), 1e-300)
-    nu = BACKGROUND_DOF * used
-    logp = -nu * np.log1p(R / nu)
-    # a line is a periodicity: at least MIN_PERIODS periods in the recording (slower structure is
-    # the time windows' and the drift candidate's; at the lowest ordinates a red hump and a line
-    # cannot be told apart by their neighbours)
-    logp[: MIN_PERIODS - 1] = 0.0
+    f, I, R, logp = _time_lines(t, r, half_window)
+    I, R, logp = I[0], R[0], logp[0]
     i = int(np.argmin(logp))
     p_single = float(np.exp(logp[i]))
     m = max(1, R.size - (MIN_PERIODS - 1))
@@ -388,7 +439,7 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
 
 
 def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, keep=None,
-           friction=None) -> dict:
+           friction=None, known: dict | None = None) -> dict:
     """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring.
 
     ``filter_lags``: the memory (in samples) of the filter that conditioned the kinematics; the
@@ -397,11 +448,15 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     since near an unresolved transient the residual keeps a smoothing bias below the resolution
     threshold that lines up with the transient's large acceleration a window away.
     ``friction``: the model's friction torque per sample, the shape a drift of the whole friction
-    takes in the residual (the friction-trend test's regressor); without it, sign(v)."""
+    takes in the residual (the friction-trend test's regressor); without it, sign(v).
+    ``known``: what a correct model's residual keeps in expectation, not claimed as structure:
+    ``eiv_bias_nm`` and ``conditioning_bias_nm`` (per sample), ``static_basis`` (the baseline's
+    static-curve derivatives), ``eiv_inertial_nm``; default: the recording's ``extra`` columns."""
+    known = dict(rec.extra) if known is None else {k: v for k, v in known.items() if v is not None}
     r = np.asarray(r, float)
     keep = np.ones(r.shape, bool) if keep is None else np.asarray(keep, bool)
     kappa = long_run_variance_factor(r, blocks)
-    tests = binned_tests(rec, r, blocks, scales)
+    tests = binned_tests(rec, r, blocks, scales, known)
     pp = position_periodogram(rec.position, r, kappa)
     tests.append({"test": "position_periodic", "region": {"period": pp["period"], "unit": rec.units["position"]},
                   "statistic": pp["statistic"], "p_value": pp["p_value"], "m_eff": pp["m_eff"]})
@@ -415,7 +470,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     jerk = np.gradient(np.asarray(rec.acceleration, float), np.asarray(rec.time, float))
     # what errors in variables leave correlated with the acceleration beyond the filter's memory
     # (the attenuated share of J*a_true, see diagnose); expected under the null, so taken out here
-    eiv = rec.extra.get("eiv_inertial_nm")
+    eiv = known.get("eiv_inertial_nm")
     r_acc = r if eiv is None else r - np.where(keep, np.asarray(eiv, float), 0.0)
     acc = np.asarray(rec.acceleration, float)
     # |a|*sign(v): the shape of a friction that grows with the transmitted (inertial) torque; it is

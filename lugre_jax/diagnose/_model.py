@@ -83,6 +83,40 @@ class Terms(eqx.Module):
     dpath: Float[Array, " n-1"]  # position increments driving the bristles (see kinematics_of)
 
 
+@dataclasses.dataclass(frozen=True)
+class Context:
+    """What a candidate may read to guess its start, judge its fit and describe itself.
+
+    ``rec``: the conditioned recording; ``kin``: its kinematics; ``baseline``: the current joint
+    model; ``residual``: its residual (0 on unresolved samples); ``scales``: data scales
+    (:func:`data_scales`); ``position_peaks``: the residual's position-periodogram peaks, strongest
+    first; ``time_peak_hz``: its time periodogram's strongest ordinate; ``friction_torque`` and
+    ``inertial_torque``: the current model's parts per sample; ``n_reversals``; ``to_rad``: the
+    position unit in radians; ``position_resolution``: encoder step or position noise;
+    ``accel_bandwidth_hz``: bandwidth of the conditioned acceleration."""
+
+    rec: object
+    kin: "Kinematics"
+    baseline: "JointModel"
+    residual: np.ndarray
+    scales: dict
+    position_peaks: list
+    time_peak_hz: float
+    friction_torque: np.ndarray
+    inertial_torque: np.ndarray
+    n_reversals: int
+    to_rad: float
+    position_resolution: float = 0.0
+    accel_bandwidth_hz: float = float("inf")
+
+    @property
+    def units(self) -> dict:
+        return self.rec.units
+
+    def replace(self, **kw) -> "Context":
+        return dataclasses.replace(self, **kw)
+
+
 class AbstractCandidate(eqx.Module):
     """A piece of physics that extends the joint model's predicted torque.
 
@@ -99,24 +133,28 @@ class AbstractCandidate(eqx.Module):
         """Additive torque [recording torque unit] (zeros for physics acting through ``prepare``);
         ``terms`` are the prepared friction terms, for physics that re-evaluates part of the friction."""
 
+    # True when the starting points are searched on the residual (a period, a frequency): the
+    # calibration then repeats that search on every null draw (look-elsewhere effect)
+    searches_residual: ClassVar[bool] = False
+
     @abc.abstractmethod
-    def initial_guesses(self, ctx: dict) -> list["AbstractCandidate"]:
+    def initial_guesses(self, ctx: Context) -> list["AbstractCandidate"]:
         """Starting points for fitting this candidate, from the data scales and located residual."""
 
     @abc.abstractmethod
-    def applicable(self, ctx: dict) -> bool:
+    def applicable(self, ctx: Context) -> bool:
         """Whether the candidate makes sense for this recording/baseline (e.g. gravity needs angles)."""
 
     # parameters that must differ from these null values, by >= 3 standard errors of the joint fit,
     # for the candidate to be named (identifiable on the recording's excitation)
     key_params: ClassVar[dict] = {}
 
-    def implausible(self, ctx: dict) -> str | None:
+    def implausible(self, ctx: Context) -> str | None:
         """Why the FITTED candidate is not physically plausible on this recording, or None."""
         return None
 
     @abc.abstractmethod
-    def describe(self, ctx: dict) -> dict:
+    def describe(self, ctx: Context) -> dict:
         """Parameters in plain units plus derived quantities (e.g. period, amplitude) for the report."""
 
 

@@ -36,13 +36,14 @@ class PositionRipple(AbstractCandidate):
     period: jax.Array = cparam("P", 1e-4, 2.0, log=True)
     phase: jax.Array = cparam("1", -3 * np.pi, 3 * np.pi)
     id: ClassVar[str] = "position_ripple"
+    searches_residual: ClassVar[bool] = True
     key_params: ClassVar[dict] = {"amplitude": 0.0}
 
     def implausible(self, ctx):
-        span = ctx["scales"]["P"]
+        span = ctx.scales["P"]
         if span < 2 * float(self.period):
             return f"fewer than two periods ({float(self.period):.3g}) in the position span {span:.3g}"
-        res = ctx.get("position_resolution", 0.0)
+        res = ctx.position_resolution
         if float(self.period) < 8 * res:
             return "period within a few encoder steps"
         return self._single_speed(ctx)
@@ -52,7 +53,7 @@ class PositionRipple(AbstractCandidate):
         residual lives in one speed quartile is the baseline's misfit of that regime, not a ripple
         (measured: a 0.078-deg 'ripple' that took the slowest plateau's stick-slip and lost in every
         faster band, held-out recording held_effect00)."""
-        kin, r = ctx.get("kin"), ctx.get("residual")
+        kin, r = ctx.kin, ctx.residual
         if kin is None or r is None:
             return None
         r = np.asarray(r, float)
@@ -80,17 +81,17 @@ class PositionRipple(AbstractCandidate):
 
     def initial_guesses(self, ctx):
         out = []
-        for pk in ctx["position_peaks"][:3]:
+        for pk in ctx.position_peaks[:3]:
             out.append(PositionRipple(pk["amplitude"], pk["period"], pk["phase"]))
         return out
 
     def applicable(self, ctx):
-        return len(ctx["position_peaks"]) > 0
+        return len(ctx.position_peaks) > 0
 
     def describe(self, ctx):
         A, P, ph = float(self.amplitude), float(self.period), float(self.phase)
         return {"amplitude": A, "period": P, "phase_rad": float(np.mod(ph, TWO_PI)),
-                "units": {"amplitude": ctx["units"]["torque"], "period": ctx["units"]["position"]}}
+                "units": {"amplitude": ctx.units["torque"], "period": ctx.units["position"]}}
 
 
 # a gravity must vary over the recording's positions by at least this share of its mean torque
@@ -108,14 +109,14 @@ class Gravity(AbstractCandidate):
     key_params: ClassVar[dict] = {"amplitude": 0.0}
 
     def implausible(self, ctx):
-        span = ctx["scales"]["P"] * float(self.to_rad)
+        span = ctx.scales["P"] * float(self.to_rad)
         if span < np.pi / 6:
             # over less than 30 deg a sine of the angle is a line (a spring or a position-dependent
             # friction would fit as well): the amplitude is not identifiable
             return f"position span {span * 180 / np.pi:.3g} deg < 30 deg: a sine cannot be told from a line"
-        if float(self.amplitude) > 2 * ctx["scales"]["T"]:
+        if float(self.amplitude) > 2 * ctx.scales["T"]:
             return "amplitude above twice the largest measured torque"
-        G = float(self.amplitude) * np.sin(np.asarray(ctx["rec"].position) * float(self.to_rad) + float(self.phase))
+        G = float(self.amplitude) * np.sin(np.asarray(ctx.rec.position) * float(self.to_rad) + float(self.phase))
         if G.std() < GRAVITY_MIN_VARIATION * abs(G.mean()):
             # where the joint spends its time the sine is flat: the fit is a constant torque, which
             # an offset or a direction asymmetry explains as well; the angle dependence is not shown
@@ -134,20 +135,20 @@ class Gravity(AbstractCandidate):
         return self.amplitude * jnp.sin(kin.theta * self.to_rad + self.phase)
 
     def initial_guesses(self, ctx):
-        th = np.asarray(ctx["rec"].position) * ctx["to_rad"]
-        r = ctx["residual"]
+        th = np.asarray(ctx.rec.position) * ctx.to_rad
+        r = ctx.residual
         X = np.column_stack([np.sin(th), np.cos(th), np.ones_like(th)])
         b, *_ = np.linalg.lstsq(X, r, rcond=None)
         A = float(np.hypot(b[0], b[1]))
         ph = float(np.arctan2(b[1], b[0]))
-        return [Gravity(A, ph, ctx["to_rad"])]
+        return [Gravity(A, ph, ctx.to_rad)]
 
     def applicable(self, ctx):
-        return ctx["rec"].rotary
+        return ctx.rec.rotary
 
     def describe(self, ctx):
         return {"amplitude": float(self.amplitude), "phase_rad": float(np.mod(self.phase, TWO_PI)),
-                "units": {"amplitude": ctx["units"]["torque"]}}
+                "units": {"amplitude": ctx.units["torque"]}}
 
 
 class Asymmetry(AbstractCandidate):
@@ -170,7 +171,7 @@ class Asymmetry(AbstractCandidate):
         return self.offset + self.dsigma2 * jnp.abs(kin.v)
 
     def initial_guesses(self, ctx):
-        v, r = np.asarray(ctx["rec"].velocity), ctx["residual"]
+        v, r = np.asarray(ctx.rec.velocity), ctx.residual
         X = np.column_stack([np.ones_like(v), np.abs(v)])
         b, *_ = np.linalg.lstsq(X, r, rcond=None)
         return [Asymmetry(float(b[0]), float(b[1]))]
@@ -179,7 +180,7 @@ class Asymmetry(AbstractCandidate):
         return True
 
     def describe(self, ctx):
-        u = ctx["units"]
+        u = ctx.units
         return {"offset": float(self.offset), "dsigma2": float(self.dsigma2),
                 "Fc_plus_minus_Fc_minus": 2 * float(self.offset),
                 "units": {"offset": u["torque"], "dsigma2": f"{u['torque']}*{u['time']}/{u['position']}"}}
@@ -204,18 +205,18 @@ class ThermalDrift(AbstractCandidate):
         return _zeros(kin)
 
     def initial_guesses(self, ctx):
-        t = np.asarray(ctx["rec"].time)
-        x = (t - 0.5 * (t[0] + t[-1])) * ctx["friction_torque"]
-        rate = float(np.dot(x, ctx["residual"]) / max(np.dot(x, x), 1e-300))
+        t = np.asarray(ctx.rec.time)
+        x = (t - 0.5 * (t[0] + t[-1])) * ctx.friction_torque
+        rate = float(np.dot(x, ctx.residual) / max(np.dot(x, x), 1e-300))
         return [ThermalDrift(rate)]
 
     def applicable(self, ctx):
         return True
 
     def describe(self, ctx):
-        D = ctx["scales"]["D"]
+        D = ctx.scales["D"]
         return {"rate": float(self.rate), "relative_change_over_recording": float(self.rate) * D,
-                "units": {"rate": f"1/{ctx['units']['time']}"}}
+                "units": {"rate": f"1/{ctx.units['time']}"}}
 
 
 class StribeckShape(AbstractCandidate):
@@ -239,7 +240,7 @@ class StribeckShape(AbstractCandidate):
         return [StribeckShape(d) for d in (1.0, 1.5, 3.0)]
 
     def applicable(self, ctx):
-        return isinstance(ctx["baseline"].friction, (LuGre, Stribeck))
+        return isinstance(ctx.baseline.friction, (LuGre, Stribeck))
 
     def describe(self, ctx):
         return {"delta": float(self.delta)}
@@ -283,7 +284,7 @@ class Backlash(AbstractCandidate):
     key_params: ClassVar[dict] = {"width": 0.0, "share": 0.0}
 
     def implausible(self, ctx):
-        res = ctx.get("position_resolution", 0.0)
+        res = ctx.position_resolution
         if float(self.width) < 4 * res:
             return f"width {float(self.width):.3g} within four steps of the position resolution {res:.3g}"
         return None
@@ -309,14 +310,14 @@ class Backlash(AbstractCandidate):
 
     def initial_guesses(self, ctx):
         # share by least squares on the located residual, for each trial width
-        P = ctx["scales"]["P"]
-        kin = ctx["kin"]
-        terms = Terms(ctx["baseline"].friction, kin.v, jnp.ones_like(kin.v), kin.dpath)
-        F = jnp.asarray(ctx["friction_torque"])
-        r = np.asarray(ctx["residual"])
+        P = ctx.scales["P"]
+        kin = ctx.kin
+        terms = Terms(ctx.baseline.friction, kin.v, jnp.ones_like(kin.v), kin.dpath)
+        F = jnp.asarray(ctx.friction_torque)
+        r = np.asarray(ctx.residual)
         # a gap's width has nothing to do with the position span: try widths from the smallest
         # plausible one (four steps of the position resolution) up to the bound, a factor ~3 apart
-        lo = max(4 * ctx.get("position_resolution", 0.0), 1e-6 * P)
+        lo = max(4 * ctx.position_resolution, 1e-6 * P)
         out = []
         for w in np.geomspace(lo, 0.02 * P, max(int(np.ceil(np.log(0.02 * P / lo) / np.log(3.0))) + 1, 2)):
             x = np.asarray(Backlash(w, 1.0).extra_torque(kin, terms, F, None))
@@ -325,11 +326,11 @@ class Backlash(AbstractCandidate):
         return out
 
     def applicable(self, ctx):
-        return ctx["n_reversals"] >= 4
+        return ctx.n_reversals >= 4
 
     def describe(self, ctx):
         return {"width": float(self.width), "share": float(self.share),
-                "units": {"width": ctx["units"]["position"], "share": "1 (fraction of the friction)"}}
+                "units": {"width": ctx.units["position"], "share": "1 (fraction of the friction)"}}
 
 
 def _compliance_response(a, h, fn, zeta):
@@ -355,14 +356,15 @@ class Compliance(AbstractCandidate):
     zeta: jax.Array = cparam("1", 0.005, 1.0, log=True)
     J_load: jax.Array = cparam("T/A", 0.0, 5.0)
     id: ClassVar[str] = "compliance"
+    searches_residual: ClassVar[bool] = True
     key_params: ClassVar[dict] = {"J_load": 0.0, "fn": 0.0}
 
     def implausible(self, ctx):
-        fc = ctx.get("accel_bandwidth_hz", np.inf)
+        fc = ctx.accel_bandwidth_hz
         if float(self.fn) > 0.7 * fc:
             return (f"natural frequency {float(self.fn):.3g} Hz not below the conditioned acceleration's "
                     f"bandwidth {fc:.3g} Hz")
-        if float(self.J_load) > float(ctx["baseline"].J):
+        if float(self.J_load) > float(ctx.baseline.J):
             return "load inertia above the joint's whole inertia"
         if float(self.zeta) > 0.5:
             return "damping ratio above 0.5: no ringing to tell a spring from a filter"
@@ -380,18 +382,18 @@ class Compliance(AbstractCandidate):
         return self.J_load * _compliance_response(kin.a, h, self.fn, self.zeta)
 
     def initial_guesses(self, ctx):
-        fs = ctx["scales"]["fs"]
+        fs = ctx.scales["fs"]
         fns = [f for f in (0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0) if f < 0.35 * fs]
-        if ctx.get("time_peak_hz"):
-            fns = [ctx["time_peak_hz"]] + fns
-        J0 = 0.05 * ctx["scales"]["T/A"]
+        if ctx.time_peak_hz:
+            fns = [ctx.time_peak_hz] + fns
+        J0 = 0.05 * ctx.scales["T/A"]
         return [Compliance(f, 0.1, J0) for f in fns]
 
     def applicable(self, ctx):
         return True
 
     def describe(self, ctx):
-        u = ctx["units"]
+        u = ctx.units
         return {"fn_hz": float(self.fn), "zeta": float(self.zeta), "J_load": float(self.J_load),
                 "units": {"J_load": f"{u['torque']}*s^2/{u['position']}"}}
 
@@ -415,9 +417,9 @@ class LoadDependent(AbstractCandidate):
         return self.mu * jnp.abs(inertial) * jnp.tanh(kin.v / self.v_eps)
 
     def initial_guesses(self, ctx):
-        v_eps = 0.01 * ctx["scales"]["V"]
-        x = np.abs(ctx["inertial_torque"]) * np.tanh(np.asarray(ctx["rec"].velocity) / v_eps)
-        mu = float(np.dot(x, ctx["residual"]) / max(np.dot(x, x), 1e-300))
+        v_eps = 0.01 * ctx.scales["V"]
+        x = np.abs(ctx.inertial_torque) * np.tanh(np.asarray(ctx.rec.velocity) / v_eps)
+        mu = float(np.dot(x, ctx.residual) / max(np.dot(x, x), 1e-300))
         return [LoadDependent(max(mu, 1e-4), v_eps)]
 
     def applicable(self, ctx):

@@ -126,6 +126,7 @@ class Finding:
     validation_rmse_nm: float
     delta_bic: float | None = None
     p_validation: float | None = None
+    p_family: float | None = None
 
     @property
     def unexplained(self) -> bool:
@@ -134,7 +135,8 @@ class Finding:
     def to_json(self) -> dict:
         out = {"name": self.name, "explanation": self.explanation, "params": self.params,
                "validation_rmse_nm": self.validation_rmse_nm}
-        out.update({k: getattr(self, k) for k in ("delta_bic", "p_validation") if getattr(self, k) is not None})
+        out.update({k: getattr(self, k) for k in ("delta_bic", "p_validation", "p_family")
+                    if getattr(self, k) is not None})
         return out
 
 
@@ -202,6 +204,7 @@ class Diagnosis:
     selection_log: list
     seconds: float
     arrays: DiagnosisArrays | None = dataclasses.field(default=None, repr=False, compare=False)
+    config: dict | None = None
 
     @property
     def named(self) -> list[str]:
@@ -217,4 +220,4 @@ class Diagnosis:
                 "mismatch": [r.to_json() for r in self.mismatch], "n_tests": self.n_tests,
                 "missing_physics": [f.to_json() for f in self.missing_physics],
                 "improved": self.improved.to_json(), "selection_log": self.selection_log,
-                "seconds": self.seconds}
+                "seconds": self.seconds, **({"config": self.config} if self.config is not None else {})}

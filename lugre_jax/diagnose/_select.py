@@ -34,6 +34,7 @@ from scipy import stats
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
+from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
 from ._report import Baseline, Diagnosis, DiagnosisArrays, Finding, Improved, RecordingInfo, Region
 
@@ -43,17 +44,6 @@ def _friction(model, kin) -> np.ndarray:
     return np.asarray(M._parts(model, kin)[1])
 
 
-def _ctx(rec, model, kin, r, loc, scales, n_rev, extra=None):
-    inertial, F, _ = (np.asarray(x) for x in M._parts(model, kin))
-    return {**(extra or {}),"rec": rec, "kin": kin, "baseline": model, "residual": r, "scales": scales, "units": rec.units,
-            "position_peaks": loc["position_periodogram"]["peaks"],
-            "time_peak_hz": loc["time_periodogram"]["frequency"], "friction_torque": F,
-            "inertial_torque": inertial, "n_reversals": n_rev,
-            "to_rad": np.pi / 180 if rec.units.get("position") == "deg" else 1.0}
-
-
-MIN_RESOLVED = 100  # resolved training samples a baseline fit needs (about ten parameters)
-AT_FLOOR = 1.1  # validation RMSE / estimated floor at or below which the baseline counts as at its floor
 
 
 def _mismatch(loc: dict, at_floor: bool) -> dict:
@@ -172,12 +162,6 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
     return specs
 
 
-# the window is chosen again for the fitted inertia, and the baseline refitted, when the first
-# window's estimated kinematic torque error exceeds the new one's by this share of the torque noise
-# variance (the floor would rise by ~2.5 %)
-RECHOOSE_SHARE = 0.05
-
-
 def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
                  rough=None, screen_steps: int = 25, max_steps: int = 200):
     """Multi-start LM fit of the baseline; returns (model, info, index of the kinematics used).
@@ -220,98 +204,92 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     return best[1], info, best[3]
 
 
-def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offset: bool = False,
-             alpha: float = 0.05, top_k: int | None = 4, max_effects: int = 3, candidates=None,
-             progress: bool = True, block_s: float | None = None, max_steps: int = 80) -> Diagnosis:
-    """Diagnose a :class:`~lugre_jax.io.Recording`; returns a :class:`~._report.Diagnosis`
-    (``to_json()``: the REPORT.json content; ``arrays``: residuals, models and tests behind it).
+@dataclasses.dataclass(frozen=True)
+class Prepared:
+    """Stage 1: the conditioned recording and the fitted (or given) baseline.
 
-    ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format).
-    ``friction``: baseline friction law, ``lugre`` (default), ``stribeck`` or ``coulomb_viscous``.
-    ``fit_offset``: include a constant torque offset in the baseline (the EMPS benchmark does).
+    ``rec_in``: as loaded; ``rec``: conditioned; ``cond``: how; ``unresolved``: samples inside
+    transients the sampling does not resolve; ``kin``: kinematics along the chosen bristle ``path``;
+    ``base``: the baseline; ``info``: its fit record; ``k``: its free-parameter count."""
 
-    Before fitting, the kinematics are conditioned from the data (:func:`._condition.condition`:
-    velocity column or position, Savitzky-Golay window from the estimated noise and bias; bristles
-    driven along the position path) and samples inside unresolved sharp transients are left out.
-    The result's ``baseline`` (:class:`~._report.Baseline`) has ``noise_floor_nm`` (per-sample
-    noise estimated from the data), ``floor_ratio`` (validation RMSE / floor), ``at_floor`` (ratio
-    <= 1.1), ``shortcoming``, ``torque_noise_nm`` and ``kinematic_noise_nm`` (its two parts: the
-    floor of an inverse model includes the noise the conditioned velocity and acceleration carry),
-    ``conditioning`` and ``unresolved_transient_fraction``; each joint refit in ``selection_log``
-    adds ``identifiability_z`` and ``rejected_because`` (a candidate is named only if plausible and
-    identifiable on the recording, see docs/diagnosis.md).
-    """
-    from tqdm.auto import tqdm
+    rec_in: object
+    rec: object
+    cond: object
+    unresolved: np.ndarray
+    kin: object
+    path: str
+    base: object
+    info: dict
+    k: int
 
-    from ._condition import condition
 
-    t_start = time.time()
+@dataclasses.dataclass(frozen=True)
+class Split:
+    """Stage 2: which samples fit, which validate. ``blocks``: time-block ids; ``keep``: resolved
+    samples; ``val``: the held-out phase ``phase``; ``folds``: the phases a candidate's
+    cross-validated test crosses (``cv_mask``); ``w``: training weights."""
+
+    blocks: np.ndarray
+    keep: np.ndarray
+    val: np.ndarray
+    phase: int
+    folds: tuple
+    cv_mask: np.ndarray
+    w: np.ndarray
+    n_reversals: int
+
+    @property
+    def rows(self) -> np.ndarray:
+        return self.w > 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Floor:
+    """Stage 3: the noise model. ``torque_nm`` and ``kinematic_nm``: per-sample noise of the torque
+    channel and what the kinematics' errors bring through the baseline; ``floor_nm``: both;
+    ``ratio``: the baseline's validation RMSE over it; ``known``: what a correct model's residual
+    keeps in expectation (shapes :func:`~._locate.locate` does not claim); ``null``: the
+    measurement chain the candidates' test simulates; ``scales``: data scales with ``noise`` set."""
+
+    torque_nm: float
+    kinematic_nm: float
+    floor_nm: float
+    ratio: float
+    attenuation: float
+    known: dict
+    null: object
+    scales: dict
+
+
+def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
+    """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
+    fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
+    from ._condition import condition, forget_after
+
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     # the first least-squares inertia comes from the loader's raw derivatives; where they are noisy
-    # (a differentiated encoder) errors in variables shrink it toward zero, and the window chosen
-    # for that inertia is too long: estimate it again on the conditioned kinematics and re-choose
+    # (a differentiated encoder) errors in variables shrink it, and the window chosen for it is too
+    # long: estimate it again on the conditioned kinematics
     rough2 = M.initial_baseline(crec, friction, fit_offset)
     if not 0.8 <= float(rough2.J) / max(float(rough.J), 1e-300) <= 1.25:
         rough = rough2
         crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
-    rec_in = rec
     rechosen = None
-    # the window is chosen for an inertia; the first comes from a linear fit, which friction with
-    # bristle dynamics can throw far off (a multisine through zero speed: J < 0, clipped), so the
-    # fitted inertia chooses again, and a different window is fitted again (once)
     for second in (False, True):
-        if not cond.position_measured:
-            # the path is the integral of the velocity: across a transient the sampling does not
-            # resolve, that integral is wrong by an unknown step, which the bristles keep until they
-            # have travelled a few relaxation lengths (pre-sliding travel, from the data)
-            from ._condition import forget_after
-
+        if not cond.position_measured and hasattr(rough.friction, "Fs"):
+            # the path integrates the velocity: across an unresolved transient it is off by an unknown
+            # step that the bristles keep for a few pre-sliding lengths
             unresolved = forget_after(unresolved, crec.position,
-                                      3.0 * M.presliding_displacement(crec, float(rough.friction.Fs))
-                                      if hasattr(rough.friction, "Fs") else 0.0)
-        rec = crec
-        kin = M.kinematics_of(rec)
-        # memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk.
-        # A quantised position's error is correlated for as long as the joint takes to cross a step,
-        # seconds at slow speed, and the bristles carry it further: with derivatives of a quantised
-        # position the cross-correlations with acceleration and jerk have no null distribution we can
-        # bound from the data, so they are not run (flags past their largest lag, 0.5 s)
-        flags = cond.window + 2 if cond.source != "recording" else 0
-        if cond.source == "position" and cond.quantisation > 0:
-            flags = int(round(0.5 / rec.dt)) + 1
-        scales = M.data_scales(rec)
-        blocks = M.block_ids(rec.time, block_s)
-        # unresolved transients take no part: not in the fit, the validation or the tests
-        keep = ~unresolved
-        since, direction, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
-        # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
-        # of acceleration (an excitation periodic in five blocks) away from the fit
-        events = [keep & (since == 0),
-                  M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
-        phase = M.validation_phase(blocks, events)
-        val = M.validation_mask(blocks, phase=phase) & keep
-        # the phases a candidate's cross-validated test uses: those whose refit still sees every kind of event
-        folds = [j for j, h in enumerate(M.phases_holding_events(blocks, events)[1]) if not h or j == phase]
-        cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
-        w = ((~val) & keep).astype(float)
-        tau = np.asarray(rec.torque)
-        n_train = int(w.sum())
-        if n_train < MIN_RESOLVED or int(val.sum()) < MIN_RESOLVED // 4:
-            raise ValueError(
-                f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
-                f"sampling and noise ({cond.source}, window {cond.window}); expected at least {MIN_RESOLVED} "
-                "for the fit and a quarter of that held out: a slower or smoother excitation, or a velocity "
-                "sensor, is needed")
-
-        # bristle path: the complementary one (conditioned velocity pulled to the position) or, where
-        # the position was measured and smoothed, the measured position itself; which is better depends
-        # on the encoder step against the bristle stiffness, so the data decide (training SSE)
+                                      3.0 * M.presliding_displacement(crec, float(rough.friction.Fs)))
+        kin = M.kinematics_of(crec)
+        split = _split(crec, cond, unresolved, cfg)
+        w = split.w
         paths = {"complementary" if cond.source != "recording" else "measured": kin}
         if cond.source != "recording" and cond.position_measured:
-            paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, rec, np.asarray(rec_in.position)))
-        base, info, k_path = fit_baseline(rec, list(paths.values()), w, scales, friction, fit_offset, params,
-                                          noise=cond.torque_noise)
+            paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, np.asarray(rec.position)))
+        base, info, k_path = fit_baseline(crec, list(paths.values()), w, M.data_scales(crec), friction,
+                                          fit_offset, params, noise=cond.torque_noise)
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
@@ -320,190 +298,289 @@ def diagnose(rec, params: dict | None = None, friction: str = "lugre", fit_offse
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
         if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
             break
-        crec2, cond2, unresolved2 = condition(rec_in, J_fit, s2_fit)
+        crec2, cond2, unresolved2 = condition(rec, J_fit, s2_fit)
         if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order):
             break
-        # refitted only if the fitted inertia's window is better by a share of the torque noise
-        # variance that matters, not for the small shifts of window a small change of J brings
-        mse_old = condition(rec_in, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
-        mse_new = condition(rec_in, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
-        if mse_old - mse_new <= RECHOOSE_SHARE * cond.torque_noise ** 2:
+        mse_old = condition(rec, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
+        mse_new = condition(rec, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
+        if mse_old - mse_new <= cfg.rechoose_share * cond.torque_noise ** 2:
             break
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
                     "excess_error_nm": float(np.sqrt(mse_old - mse_new))}
         crec, cond, unresolved = crec2, cond2, unresolved2
     if rechosen is not None:
         info["window_rechosen_from"] = rechosen
-    tau_base = M.predict(base, kin)
-    r0 = (tau - tau_base) * keep
-    # the floor of an inverse model: the torque noise and what the kinematics' noise brings through
-    # the fitted model (errors in variables), both estimated from the data
-    kin_noise, eiv_bias = _eiv_noise(rec_in, cond, base, kin, path, keep)
-    rec = eqx.tree_at(lambda r: r.extra, rec, {
-        **rec.extra, "eiv_bias_nm": eiv_bias,
-        "static_basis": M.static_curve_basis(base, M.baseline_specs(base, scales, fit_offset),
-                                             np.asarray(rec.velocity))})
+    k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
+    return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k), split
+
+
+def _split(rec, cond, unresolved, cfg) -> Split:
+    scales = M.data_scales(rec)
+    blocks = M.block_ids(rec.time, cfg.block_s)
+    keep = ~unresolved
+    since, _, n_rev = L.reversal_info(rec.time, rec.velocity, scales["V"])
+    # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
+    # of acceleration (an excitation periodic in five blocks) away from the fit
+    events = [keep & (since == 0),
+              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
+    phase = M.validation_phase(blocks, events)
+    val = M.validation_mask(blocks, phase=phase) & keep
+    folds = tuple(j for j, h in enumerate(M.phases_holding_events(blocks, events)[1]) if not h or j == phase)
+    cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
+    w = ((~val) & keep).astype(float)
+    if int(w.sum()) < cfg.min_resolved or int(val.sum()) < cfg.min_resolved // 4:
+        raise ValueError(
+            f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
+            f"sampling and noise ({cond.source}, window {cond.window}); expected at least "
+            f"{cfg.min_resolved} for the fit and a quarter of that held out: a slower or smoother "
+            "excitation, or a velocity sensor, is needed")
+    return Split(blocks, keep, val, phase, folds, cv_mask, w, n_rev)
+
+
+def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
+    """The floor of an inverse model: the torque noise and what the kinematics' noise brings through
+    the fitted model (errors in variables), both from the data; and the null model that simulates
+    them."""
+    from ._calibrate import null_model
+
+    rec, cond, base, kin = prep.rec, prep.cond, prep.base, prep.kin
+    scales = M.data_scales(rec)
+    kin_noise, eiv_bias = _eiv_noise(prep.rec_in, cond, base, kin, prep.path, split.keep)
+    known = {"conditioning_bias_nm": rec.extra.get("conditioning_bias_nm"), "eiv_bias_nm": eiv_bias,
+             "static_basis": M.static_curve_basis(base, M.baseline_specs(base, scales, fit_offset),
+                                                  np.asarray(rec.velocity))}
     # least squares on a noisy acceleration attenuates J by lam = var(a_true)/var(a_measured); the
-    # best predictor then also misses (1 - lam)*J*a_true, so its errors-in-variables variance is
-    # that of J_fit*noise over lam, and its residual keeps a share of the acceleration beyond the
-    # filter's memory, which the cross-correlation tests must expect (rec.extra, see locate)
+    # best predictor then misses (1 - lam)*J*a_true, which the cross-correlations must expect
     a_m = np.asarray(rec.acceleration)
     lam = 1.0
-    if cond.source != "recording" and np.any(w > 0):
-        va = float(np.var(a_m[w > 0]))
+    if cond.source != "recording" and np.any(split.rows):
+        va = float(np.var(a_m[split.rows]))
         lam = float(np.clip(1.0 - cond.accel_noise ** 2 / va, 0.2, 1.0)) if va > 0 else 1.0
     if lam < 1.0:
         kin_noise = float(np.hypot(kin_noise, float(base.J) * cond.accel_noise * np.sqrt(1.0 / lam - 1.0)))
-        rec = eqx.tree_at(lambda r: r.extra, rec, {**rec.extra,
-                                                 "eiv_inertial_nm": (1.0 / lam - 1.0) * float(base.J) * a_m})
-    info["acceleration_attenuation"] = lam
-    scales["acceleration_attenuation"] = lam
+        known["eiv_inertial_nm"] = (1.0 / lam - 1.0) * float(base.J) * a_m
     floor = float(np.hypot(cond.torque_noise, kin_noise))
-    ratio = _val_rmse(r0, val) / floor if floor > 0 else float("inf")
-    scales["noise"] = floor  # the tests' resolution margins are shares of the per-sample floor
-    loc0 = _mismatch(L.locate(rec, r0, blocks, scales, alpha, flags, keep, _friction(base, kin)), ratio <= AT_FLOOR)
-    kappa = loc0["kappa"]
-    k0 = len(M.baseline_specs(base, scales, fit_offset)) if params is None else 0
+    r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
+    ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
+    scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
+    null = null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws)
+    return Floor(cond.torque_noise, kin_noise, floor, ratio, lam, known, null, scales)
+
+
+def _filter_lags(prep: Prepared) -> int:
+    """Memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk.
+    A quantised position's error is correlated for as long as the joint takes to cross a step, and
+    the bristles carry it further: with derivatives of a quantised position the cross-correlations
+    with acceleration and jerk have no null distribution bounded from the data, so they are not run
+    (flags past their largest lag, 0.5 s)."""
+    cond = prep.cond
+    if cond.source == "position" and cond.quantisation > 0:
+        return int(round(0.5 / prep.rec.dt)) + 1
+    return cond.window + 2 if cond.source != "recording" else 0
+
+
+def _locate(prep, split, floor, model, r, alpha, filter_lags, at_floor: bool):
+    loc = L.locate(prep.rec, r, split.blocks, floor.scales, alpha, filter_lags, split.keep,
+                   _friction(model, prep.kin), known=floor.known)
+    return _mismatch(loc, at_floor)
+
+
+def _context(prep, split, floor, model, r, loc=None) -> M.Context:
+    """The candidates' view of the current model and residual (periodogram peaks of ``r``)."""
+    rec = prep.rec
+    inertial, F, _ = (np.asarray(x) for x in M._parts(model, prep.kin))
+    if loc is not None:
+        peaks, f_t = loc["position_periodogram"]["peaks"], loc["time_periodogram"]["frequency"]
+    else:
+        # as the calibration's null draws find them (:mod:`._calibrate`)
+        peaks = L.position_peaks_many(rec.position, r)[0]
+        f_t = float(L.time_peaks_many(rec.time, r)[0])
+    cond = prep.cond
+    fs = floor.scales["fs"]
+    return M.Context(rec=rec, kin=prep.kin, baseline=model, residual=np.asarray(r), scales=floor.scales,
+                     position_peaks=peaks, time_peak_hz=f_t, friction_torque=F, inertial_torque=inertial,
+                     n_reversals=split.n_reversals,
+                     to_rad=np.pi / 180 if rec.units.get("position") == "deg" else 1.0,
+                     position_resolution=max(cond.quantisation, cond.position_noise),
+                     accel_bandwidth_hz=_sg_bandwidth(cond.window, fs, cond.order) if cond.source != "recording"
+                     else 0.25 * fs)
+
+
+def _specs(model, scales, fit_offset, frozen: bool):
+    return _all_specs(model, scales, fit_offset, freeze_baseline=frozen)
+
+
+def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
+    """Greedy forward selection: at each step every candidate is tested against the null simulated
+    for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
+    are refitted jointly with the current model, and the first that is plausible, identifiable and
+    lowers the held-out error (cross-validated over the block phases, and on the fixed phase) is
+    accepted. Stops when no candidate is significant or none of the significant ones holds up."""
+    from tqdm.auto import tqdm
+
+    from ._calibrate import test_candidates
+
+    tau = np.asarray(prep.rec.torque)
+    kin, w, keep, val = prep.kin, split.w, split.keep, split.val
+    scales = floor.scales
+    current = prep.base
+    r_cur = (tau - M.predict(current, kin)) * keep
+    accepted, log = [], []
+    bar = tqdm(total=cfg.max_effects, desc="select", disable=not progress, leave=False)
+    while len(accepted) < cfg.max_effects:
+        names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
+        ctx = _context(prep, split, floor, current, r_cur)
+        test = test_candidates(current, _specs(current, scales, fit_offset, frozen), names, ctx, kin, split.rows,
+                               floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted))
+        order = np.argsort(-test.standardised)
+        significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
+        r_cur_cv = None
+        trials = []
+        for i in significant:
+            name = test.names[i]
+            start = M.JointModel(current.J, current.friction, current.offset,
+                                 current.candidates + (test.best_guess[i],))
+            space = M.FitSpace(_specs(start, scales, fit_offset, frozen))
+            start = M.clip_into(space, start)
+            fitted, finfo = M.fit(start, space, kin, tau, w, max_steps=cfg.max_steps)
+            r1 = (tau - M.predict(fitted, kin)) * keep
+            r_start = (tau - M.predict(start, kin)) * keep
+            if not np.all(np.isfinite(r1)) or _sse(r1, w) > _sse(r_start, w):
+                fitted, r1 = start, r_start
+            cand = fitted.candidates[-1]
+            why = cand.implausible(ctx.replace(baseline=fitted))
+            kap1 = L.long_run_variance_factor(r1, split.blocks)
+            zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand)
+            if why is None and not zmax >= cfg.identifiability_z:
+                why = (f"not identifiable on this excitation: its parameters are within "
+                       f"{zmax:.2g} standard errors of no effect")
+            cv_cur = cv1 = p_val = None
+            v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
+            if why is None:
+                if r_cur_cv is None:
+                    r_cur_cv = _cross_validated(current, _specs(current, scales, fit_offset, frozen), kin, tau,
+                                                keep, split.blocks, split.phase, split.folds, cfg.max_steps)
+                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, split.blocks, split.phase,
+                                         split.folds, cfg.max_steps)
+                cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
+                p_val = (_paired_block_test(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
+                         if np.all(np.isfinite(r1_cv)) else 1.0)
+                if not (cv1 < cv_cur and v1 < v_cur):
+                    why = (f"does not lower the held-out error (cross-validated {cv_cur:.4g} -> {cv1:.4g}, "
+                           f"held-out phase {v_cur:.4g} -> {v1:.4g})")
+            k1 = len(space.specs) if not frozen else prep.k + sum(
+                len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
+            sse1 = _sse(r1, w)
+            n_train = int(w.sum())
+            dbic = _bic(sse1, kap1, n_train, k1) - _bic(_sse(r_cur, w), kap1, n_train, k1 - len(
+                M.candidate_specs(fitted, len(fitted.candidates) - 1, scales)))
+            trials.append({"name": name, "model": fitted, "r": r1, "delta_bic": dbic,
+                           "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
+                           "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
+                           "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
+                           "identifiability_z": zmax, "rejected_because": why})
+            if why is None:
+                break  # the most significant candidate that holds up is this step's
+        log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
+                    "tests": test.to_json(),
+                    "joint_refits": [{k: t[k] for k in ("name", "p_family", "delta_bic", "p_validation",
+                                                         "validation_rmse_nm", "validation_rmse_before_nm",
+                                                         "cv_rmse_nm", "cv_rmse_before_nm", "identifiability_z",
+                                                         "rejected_because")} for t in trials]})
+        ok = [t for t in trials if t["rejected_because"] is None]
+        if not ok:
+            break
+        best = ok[0]
+        accepted.append((best["name"], best))
+        current, r_cur = best["model"], best["r"]
+        bar.update(1)
+    bar.close()
+    return current, r_cur, accepted, log
+
+
+def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_offset: bool = False,
+             candidates=None, config: DiagnoseConfig | None = None, progress: bool = True,
+             **settings) -> Diagnosis:
+    """Diagnose a :class:`~lugre_jax.io.Recording`; returns a :class:`~._report.Diagnosis`
+    (``to_json()``: the REPORT.json content; ``arrays``: residuals, models and tests behind it).
+
+    The pipeline (docs/diagnosis.md): condition the kinematics and fit the baseline
+    (:func:`_prepare`), split training and held-out blocks (:func:`_split`), estimate the noise
+    floor and the null model (:func:`_floor`), locate residual structure (:func:`~._locate.locate`),
+    select candidates by the calibrated test (:func:`_select`), report.
+
+    ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format).
+    ``friction``: ``lugre`` (default), ``stribeck`` or ``coulomb_viscous``. ``fit_offset``: a
+    constant torque offset in the baseline. ``candidates``: a subset of candidate ids.
+    ``config``: a :class:`DiagnoseConfig`; keyword ``settings`` override its fields (``alpha=``,
+    ``block_s=``, ``top_k=``, ``max_effects=``, ``null_draws=``...).
+    """
+    t_start = time.time()
+    cfg = dataclasses.replace(config or DiagnoseConfig(), **settings)
+    pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
+    frozen = params is not None
+    prep, split = _prepare(rec, cfg, params, friction, fit_offset)
+    floor = _floor(prep, split, cfg, fit_offset)
+    flags = _filter_lags(prep)
+    tau = np.asarray(prep.rec.torque)
+    base, kin = prep.base, prep.kin
+    r0 = (tau - M.predict(base, kin)) * split.keep
+    loc0 = _locate(prep, split, floor, base, r0, cfg.alpha_locate, flags, floor.ratio <= cfg.at_floor)
+    current, r_cur, accepted, log = _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress)
+    loc_cur = (_locate(prep, split, floor, current, r_cur, cfg.alpha_locate, flags,
+                       _val_rmse(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
+    return _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, t_start)
+
+
+def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, t_start) -> Diagnosis:
+    rec, base, kin, val, w = prep.rec, prep.base, prep.kin, split.val, split.w
+    scales = floor.scales
+    ratio = floor.ratio
+    cond = prep.cond
+    blocks = split.blocks
     recording = RecordingInfo(
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
         validation="every 5th time block of ~%.3g %s held out, phase %d (%d of %d samples); a candidate's "
                    "held-out test crosses phases %s"
                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
-                      rec.units["time"], phase, int(val.sum()), rec.n, ", ".join(map(str, folds))))
+                      rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds))))
     baseline = Baseline(
         params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
-        validation_rmse_nm=_val_rmse(r0, val), fit=info, noise_floor_nm=floor, torque_noise_nm=cond.torque_noise,
-        kinematic_noise_nm=kin_noise, floor_ratio=ratio, at_floor=bool(ratio <= AT_FLOOR),
-        shortcoming=None if ratio <= AT_FLOOR else (
+        validation_rmse_nm=_val_rmse(r0, val), fit={**prep.info, "acceleration_attenuation": floor.attenuation},
+        noise_floor_nm=floor.floor_nm, torque_noise_nm=floor.torque_nm, kinematic_noise_nm=floor.kinematic_nm,
+        floor_ratio=ratio, at_floor=bool(ratio <= cfg.at_floor),
+        shortcoming=None if ratio <= cfg.at_floor else (
             f"the baseline's validation RMSE is {ratio:.3g}x the estimated noise floor: located "
             "structure may be the baseline's own misfit, not missing physics"
             + ("; the torque noise's profile still rises at its longest lag (colour longer than it "
                "reaches, or the signal), so the floor may be only a lower bound"
                if cond.torque_noise_open else "")),
-        conditioning=cond.to_json(), unresolved_transient_fraction=float(unresolved.mean()))
-    cext = {"position_resolution": max(cond.quantisation, cond.position_noise),
-            "accel_bandwidth_hz": _sg_bandwidth(cond.window, scales["fs"], cond.order) if cond.source != "recording"
-            else 0.25 * scales["fs"]}
-    current, r_cur, loc_cur, k_cur = base, r0, loc0, k0
-    accepted, steps_log = [], []
-    sse_cur = _sse(r_cur, w)
-    pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
-    while loc_cur["located"] and len(accepted) < max_effects:
-        ctx = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev, cext)
-        r_cur_cv = None  # the current model's cross-validated residual, made once a trial needs it
-        scored = []
-        names = [n for n in pool if n not in [a.name for a in accepted]]
-        it = tqdm(names, desc=f"score candidates (step {len(accepted) + 1})", disable=not progress, leave=False)
-        for name in it:
-            proto = pool[name]
-            inst = _Proto.get(proto)
-            guesses = inst.initial_guesses(ctx) if inst.applicable(ctx) else []
-            if not guesses:
-                continue
-            best = None
-            for g in guesses:
-                trial = M.JointModel(current.J, current.friction, current.offset, current.candidates + (g,))
-                e = M.predict(trial, kin) - (tau - r_cur)
-                if not np.all(np.isfinite(e)):
-                    continue
-                ee = float(np.sum(w * e * e))
-                er = float(np.sum(w * e * r_cur))
-                # signed: a guess anti-aligned with the residual is a bad start, not a good one
-                proj = np.sign(er) * er ** 2 / ee if ee > 0 else 0.0
-                if best is None or proj > best[0]:
-                    best = (proj, trial)
-            if best is None:
-                continue
-            scored.append({"name": name, "model": best[1], "score": best[0]})
-        scored.sort(key=lambda s: -s["score"])
-        trials = []
-        for s in tqdm(scored[:top_k], desc=f"joint refits (step {len(accepted) + 1})", disable=not progress,
-                      leave=False):
-            space = M.FitSpace(_all_specs(s["model"], scales, fit_offset, freeze_baseline=params is not None))
-            model = M.clip_into(space, s["model"])
-            fitted, finfo = M.fit(model, space, kin, tau, w, max_steps=max_steps)
-            r1 = (tau - M.predict(fitted, kin)) * keep
-            r_start = (tau - M.predict(model, kin)) * keep
-            if not np.all(np.isfinite(r1)) or _sse(r1, w) > _sse(r_start, w):
-                fitted, r1 = model, r_start
-            k1 = len(space.specs) if params is None else k_cur + len(M.candidate_specs(fitted, len(fitted.candidates) - 1, scales))
-            sse1 = _sse(r1, w)
-            # the effective sample size uses the NEW residual's autocorrelation: the old residual
-            # still contains the effect, whose structure is not noise
-            kap1 = L.long_run_variance_factor(r1, blocks)
-            bic1 = _bic(sse1, kap1, n_train, k1)
-            dbic = bic1 - _bic(sse_cur, kap1, n_train, k_cur)
-            cand = fitted.candidates[-1]
-            why = cand.implausible(ctx | {"baseline": fitted})
-            zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand)
-            if why is None and not zmax >= 3.0:
-                why = (f"not identifiable on this excitation: its parameters are within "
-                       f"{zmax:.2g} standard errors of no effect")
-            # the held-out test, cross-validated over the five block phases; only for a trial that
-            # passed everything else (four refits each, of the trial and once per step of the model)
-            p_val = cv_cur = cv1 = None
-            if dbic < 0 and why is None:
-                if r_cur_cv is None:
-                    r_cur_cv = _cross_validated(current, _all_specs(current, scales, fit_offset, params is not None),
-                                                kin, tau, keep, blocks, phase, folds, max_steps)
-                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, blocks, phase, folds, max_steps)
-                p_val = _paired_block_test(r_cur_cv, r1_cv, blocks, cv_mask) if np.all(np.isfinite(r1_cv)) else 1.0
-                cv_cur, cv1 = _val_rmse(r_cur_cv, cv_mask), _val_rmse(r1_cv, cv_mask)
-            trials.append({"name": s["name"], "model": fitted, "r": r1, "k": k1, "sse": sse1, "bic": bic1,
-                           "delta_bic": dbic, "kappa": kap1, "p_validation": p_val,
-                           "p_fixed_phase": _paired_block_test(r_cur, r1, blocks, val),
-                           "validation_rmse_nm": _val_rmse(r1, val), "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur,
-                           "fit": finfo, "identifiability_z": zmax, "rejected_because": why})
-        steps_log.append({
-            "step": len(accepted) + 1,
-            "scores": [{"name": s["name"], "projected_sse_reduction": s["score"]} for s in scored],
-            "joint_refits": [{k: t[k] for k in ("name", "delta_bic", "p_validation", "p_fixed_phase",
-                                                 "validation_rmse_nm", "cv_rmse_nm", "cv_rmse_before_nm",
-                                                 "identifiability_z", "rejected_because")}
-                             for t in trials]})
-        ok = [t for t in trials if t["p_validation"] is not None and t["p_validation"] < alpha
-              and t["cv_rmse_nm"] < t["cv_rmse_before_nm"]]
-        if not ok:
-            break
-        best = min(ok, key=lambda t: t["delta_bic"])
-        cand = best["model"].candidates[-1]
-        accepted.append(Finding(name=best["name"], explanation=type(cand).explanation,
-                                params=cand.describe(ctx | {"baseline": best["model"]}),
-                                validation_rmse_nm=best["validation_rmse_nm"],
-                                delta_bic=best["delta_bic"], p_validation=best["p_validation"]))
-        current, r_cur, k_cur = best["model"], best["r"], best["k"]
-        sse_cur = best["sse"]
-        loc_cur = _mismatch(L.locate(rec, r_cur, blocks, scales, alpha, flags, keep,
-                                     _friction(current, kin)),
-                            _val_rmse(r_cur, val) <= AT_FLOOR * floor)
-
+        conditioning=cond.to_json(), unresolved_transient_fraction=float(prep.unresolved.mean()))
     located = tuple(Region.from_test(x) for x in loc0["located"])
-    remaining = tuple(Region.from_test(x) for x in loc_cur["located"]) if accepted else located
-    # every later step refits the earlier findings jointly with the new one: a finding's parameters
-    # are those of the final joint model (the values at its own step carry what it absorbed of the
-    # effects not yet in the model, e.g. a ripple taking part of a torque offset where the joint
-    # dwells); its evidence (delta_bic, p_validation, validation RMSE) stays that of its step
-    ctx_final = _ctx(rec, current, kin, r_cur, loc_cur, scales, n_rev)
-    missing = [dataclasses.replace(a, params=c.describe(ctx_final))
-               for a, c in zip(accepted, current.candidates, strict=True)]
+    remaining = tuple(Region.from_test(x) for x in loc_cur["located"])
+    # a finding's parameters are those of the final joint model; its evidence stays that of its step
+    ctx_final = _context(prep, split, floor, current, r_cur, loc_cur)
+    missing = [Finding(name=name, explanation=type(c).explanation, params=c.describe(ctx_final),
+                       validation_rmse_nm=t["validation_rmse_nm"], delta_bic=t["delta_bic"],
+                       p_validation=t["p_validation"], p_family=t["p_family"])
+               for (name, t), c in zip(accepted, current.candidates, strict=True)]
     if remaining:
         missing.append(Finding(name="unexplained",
                                explanation="Residual structure remains where listed, and no candidate in the "
                                            "library explains it with a validated improvement.",
                                params={"regions": [x.to_json() for x in remaining[:10]]},
                                validation_rmse_nm=_val_rmse(r_cur, val)))
-    verdict = "none" if not located else ("+".join(a.name for a in accepted) if accepted else "unexplained")
-    if accepted and remaining:
-        verdict += "+unexplained"
+    names = [a[0] for a in accepted]
+    verdict = "+".join(names + (["unexplained"] if remaining else [])) or "none"
     improved = Improved(
-        params={**M.model_params(current),
-                **{c.id: c.describe(ctx_final) for c in current.candidates}},
-        rmse_nm=float(np.sqrt(np.mean(r_cur[~val] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
+        params={**M.model_params(current), **{c.id: c.describe(ctx_final) for c in current.candidates}},
+        rmse_nm=float(np.sqrt(np.mean(r_cur[w > 0] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur)
-    return Diagnosis(recording=recording, baseline=baseline, alpha=alpha, kappa_long_run_variance=kappa,
+    return Diagnosis(recording=recording, baseline=baseline, alpha=cfg.alpha, kappa_long_run_variance=loc0["kappa"],
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
-                     improved=improved, selection_log=steps_log, seconds=time.time() - t_start, arrays=arrays)
+                     improved=improved, selection_log=log, seconds=time.time() - t_start, arrays=arrays,
+                     config=cfg.to_json())
 
 
 def _sg_bandwidth(W: int, fs: float, order: int = 3) -> float:

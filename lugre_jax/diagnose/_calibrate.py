@@ -1,0 +1,251 @@
+"""The null distribution of every candidate's gain, computed for the recording at hand.
+
+Naming a candidate is a test of "the current model is complete" against "this candidate adds to
+it". Its statistic is the drop of the training residual's sum of squares when the candidate's
+torque shapes are added to the current model's, to first order: the squared norm of the residual
+projected on the candidate's Jacobian columns made orthogonal to the current model's
+(``||P_{C|B} r||^2``). Under the null the residual is the measurement chain's error, so the
+statistic's distribution follows by simulating that chain (a parametric bootstrap):
+
+* the torque channel's noise, an AR(1) of the estimated standard deviation and colour;
+* the kinematics' errors, drawn as the conditioning made them
+  (:func:`._condition.perturbed_kinematics`: fresh sensor errors on the measured signals, the same
+  Savitzky-Golay window), carried through the current model: the scatter a correct model keeps
+  because its inputs are estimated, which a candidate must not be named for absorbing.
+
+Each draw is scored exactly as the recording: the same projections, and for candidates whose
+starting points are searched on the residual (a ripple's period, a resonance's frequency) the
+search is repeated on the draw's own residual, so the null includes the look-elsewhere effect.
+Family-wise control over the candidates of a step is Westfall-Young's max-T: each gain is put in
+units of its own null mean, and a candidate's adjusted p-value is the share of draws whose largest
+standardised gain over all candidates reaches its own.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from scipy.signal import lfilter
+
+from . import _model as M
+
+
+@dataclasses.dataclass(frozen=True)
+class NullModel:
+    """What the residual of a complete model is made of, on this recording.
+
+    ``torque_sd`` and ``torque_phi``: the torque channel's noise (AR(1) standard deviation and
+    coefficient); ``kinematic_draws``: pairs ``(synthetic, reference)`` of conditioned kinematics
+    from :func:`._condition.perturbed_kinematics` (model-free; the current model turns each pair
+    into a torque error)."""
+
+    torque_sd: float
+    torque_phi: float
+    kinematic_draws: tuple
+
+    def torque_noise(self, rng: np.random.Generator, shape: tuple[int, int]) -> np.ndarray:
+        e = rng.standard_normal(shape)
+        phi = float(np.clip(self.torque_phi, 0.0, 0.999))
+        if phi > 0:
+            e[:, 0] /= np.sqrt(1.0 - phi ** 2)  # stationary start
+            e = lfilter([np.sqrt(1.0 - phi ** 2)], [1.0, -phi], e, axis=1)
+        return self.torque_sd * e
+
+    def kinematic_errors(self, model, kin) -> np.ndarray:
+        """Torque error each kinematic draw brings through ``model`` (draws x n): prediction on the
+        reference minus prediction on the synthetic kinematics (the sign of a residual)."""
+        out = []
+        for syn, ref in self.kinematic_draws:
+            out.append(M.predict(model, _as_kin(kin, ref)) - M.predict(model, _as_kin(kin, syn)))
+        if not out:
+            return np.zeros((0, kin.v.shape[0]))
+        # their spread only: the draws' mean (the systematic error of a smoothed reference against
+        # its own re-quantisation) overstates what the recording's residual keeps, which locate
+        # takes as a known shape instead
+        d = np.asarray(out)
+        return d - d.mean(axis=0) if d.shape[0] > 1 else d
+
+
+def _as_kin(kin, x):
+    v, a, th = (jnp.asarray(y, float) for y in x)
+    return eqx.tree_at(lambda k: (k.v, k.a, k.theta, k.dpath), kin, (v, a, th, jnp.diff(th)))
+
+
+def null_model(rec_in, cond, path: str, draws: int) -> NullModel:
+    from ._condition import perturbed_kinematics
+
+    pairs = tuple(perturbed_kinematics(rec_in, cond, path, seed) for seed in range(draws))
+    return NullModel(float(cond.torque_noise), float(cond.torque_noise_colour), pairs)
+
+
+def _orth(X: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
+    """Orthonormal basis of the column space of X (columns below ``rtol`` of the largest dropped)."""
+    if X.shape[1] == 0:
+        return X
+    U, s, _ = np.linalg.svd(X, full_matrices=False)
+    return U[:, s > rtol * max(float(s[0]), 1e-300)]
+
+
+def jacobian(model, specs, kin, rows) -> np.ndarray:
+    """d(prediction)/d(parameter) at ``model`` on the training ``rows`` (n_rows x k), in the fit's
+    unbounded coordinates (the column space is what matters, and it is the same)."""
+    if not specs:
+        return np.zeros((int(rows.sum()), 0))
+    space = M.FitSpace(specs)
+    model = M.clip_into(space, model)
+    n = kin.v.shape[0]
+    Jm = np.asarray(M._jac_u(space.to_u(model), space.paths, space.bounds, model, kin, jnp.zeros(n),
+                             jnp.ones(n), jnp.asarray(1.0)))
+    return Jm[rows]
+
+
+def jacobians(trials: list, specs, kin, rows) -> np.ndarray:
+    """:func:`jacobian` of several models that differ only in the parameters of ``specs``, in one
+    vectorised call (trials x n_rows x k)."""
+    space = M.FitSpace(specs)
+    us = jnp.stack([space.to_u(t) for t in trials])
+    n = kin.v.shape[0]
+    J = np.asarray(_jac_many(us, space.paths, space.bounds, trials[0], kin, jnp.zeros(n), jnp.ones(n)))
+    return J[:, rows, :]
+
+
+@eqx.filter_jit
+def _jac_many(us, paths, bounds, template, kin, tau, w):
+    import jax
+
+    return jax.vmap(lambda u: jax.jacfwd(M._residual_fn)(u, (paths, bounds, template, kin, tau, w, 1.0)))(us)
+
+
+@dataclasses.dataclass(frozen=True)
+class CandidateTest:
+    """The calibrated test of one step: per candidate its statistic on the recording, its raw and
+    family-wise adjusted p-values against ``n_draws`` null draws (max-T over the candidates, each
+    gain over its null mean: ``standardised``), and the null's 1 - alpha quantile
+    of the statistic (what the recording's gain had to exceed, for the report)."""
+
+    names: tuple
+    statistic: np.ndarray
+    standardised: np.ndarray
+    p_raw: np.ndarray
+    p_adjusted: np.ndarray
+    null_quantile: np.ndarray
+    best_guess: tuple
+    n_draws: int
+
+    def to_json(self) -> list:
+        return [{"name": n, "gain_nm2": float(s), "gain_over_null_mean": float(z),
+                 "null_quantile_nm2": float(q), "p_raw": float(p), "p_family": float(pa)}
+                for n, s, z, q, p, pa in zip(self.names, self.statistic, self.standardised, self.null_quantile,
+                                             self.p_raw, self.p_adjusted)]
+
+
+def _key(guess) -> tuple:
+    """A candidate instance's identity by value (equal guesses share a Jacobian)."""
+    return (type(guess).__name__,) + tuple(np.asarray(getattr(guess, f.name), float).tobytes()
+                                          for f in dataclasses.fields(guess))
+
+
+def _trial(current, guess):
+    return M.JointModel(current.J, current.friction, current.offset, current.candidates + (guess,))
+
+
+def _gains(QB, QC, R):
+    """||P_{C|B} r||^2 for every column r of R, C made orthogonal to B first."""
+    Xc = QC - QB @ (QB.T @ QC) if QB.shape[1] else QC
+    Qc = _orth(Xc, 1e-6)
+    if Qc.shape[1] == 0:
+        return np.zeros(R.shape[1])
+    return np.sum((Qc.T @ R) ** 2, axis=0)
+
+
+def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, null: NullModel, n_draws: int,
+                    alpha: float, seed: int = 0) -> CandidateTest:
+    """Test every candidate against the null simulated for this recording (module docstring).
+
+    ``candidates``: name -> prototype instance; ``ctx_obs``: the candidates' context
+    (:class:`~._model.Context`) on the current model's residual; ``rows``: training samples."""
+    from ._locate import position_peaks_many, time_peaks_many
+
+    residual = np.asarray(ctx_obs.residual, float)
+    scales = ctx_obs.scales
+    rng = np.random.default_rng(seed)
+    n = residual.size
+    QB = _orth(jacobian(current, base_specs, kin, rows))
+    # the null draws of the full-length residual: torque noise plus the kinematics' errors
+    eiv = null.kinematic_errors(current, kin)
+    E = null.torque_noise(rng, (n_draws, n))
+    if eiv.shape[0]:
+        E = E + eiv[np.arange(n_draws) % eiv.shape[0]]
+    E = np.where(rows[None, :], E, 0.0)
+    # what a refit of the current model leaves of each draw (its projection on B removed)
+    Er = E[:, rows].T
+    Rn = Er - QB @ (QB.T @ Er) if QB.shape[1] else Er
+    r_obs = residual[rows][:, None]
+
+    cache: dict = {}
+
+    def basis(inst, guess):
+        key = _key(guess)
+        if key not in cache:
+            trial = _trial(current, guess)
+            specs = M.candidate_specs(trial, len(trial.candidates) - 1, scales)
+            cache[key] = jacobian(trial, specs, kin, rows)
+        return cache[key]
+
+    names, obs, null_stats, best = [], [], [], []
+    ctx_draws = None
+    for name, inst in candidates.items():
+        if not inst.applicable(ctx_obs):
+            continue
+        guesses = inst.initial_guesses(ctx_obs)
+        if not guesses:
+            continue
+        g_obs = [float(_gains(QB, basis(inst, g), r_obs)[0]) for g in guesses]
+        k = int(np.argmax(g_obs))
+        if getattr(type(inst), "searches_residual", False):
+            # the search repeated on every draw's own residual: the look-elsewhere effect
+            if ctx_draws is None:
+                full = np.zeros((n_draws, n))
+                full[:, rows] = Rn.T
+                peaks = position_peaks_many(ctx_obs.rec.position, full)
+                lines = time_peaks_many(ctx_obs.rec.time, full)
+                ctx_draws = [ctx_obs.replace(residual=full[b], position_peaks=peaks[b], time_peak_hz=float(lines[b]))
+                             for b in range(n_draws)]
+            guesses_b = [inst.initial_guesses(c) if inst.applicable(c) else [] for c in ctx_draws]
+            todo = {}
+            for gs in guesses_b:
+                for g in gs:
+                    if _key(g) not in cache:
+                        todo[_key(g)] = g
+            if todo:
+                trials = [_trial(current, g) for g in todo.values()]
+                specs = M.candidate_specs(trials[0], len(trials[0].candidates) - 1, scales)
+                for i0 in range(0, len(trials), 32):  # bounded memory: 32 Jacobians at a time
+                    Js = jacobians(trials[i0:i0 + 32], specs, kin, rows)
+                    for key, Jc in zip(list(todo)[i0:i0 + 32], Js):
+                        cache[key] = Jc
+            g_null = np.array([max((float(_gains(QB, cache[_key(g)], Rn[:, b:b + 1])[0]) for g in gs), default=0.0)
+                               for b, gs in enumerate(guesses_b)])
+        else:
+            g_null = np.max(np.stack([_gains(QB, basis(inst, g), Rn) for g in guesses]), axis=0)
+        names.append(name)
+        obs.append(g_obs[k])
+        null_stats.append(g_null)
+        best.append(guesses[k])
+    if not names:
+        z = np.zeros(0)
+        return CandidateTest((), z, z, z, z, z, (), n_draws)
+    obs = np.asarray(obs)
+    T = np.stack(null_stats, axis=1)  # draws x candidates
+    p_raw = (1.0 + np.sum(T >= obs[None, :], axis=0)) / (n_draws + 1.0)
+    # max-T over candidates, each gain in units of its own null mean (a gain is sigma^2 times a
+    # chi-square of the candidate's shapes, so the ratio puts candidates of different size on one
+    # scale); its resolution is 1/(n_draws + 1) whatever the number of candidates
+    scale = np.maximum(np.mean(T, axis=0), 1e-300)
+    std_obs, std_null = obs / scale, T / scale[None, :]
+    p_adj = (1.0 + np.sum(np.max(std_null, axis=1)[:, None] >= std_obs[None, :], axis=0)) / (n_draws + 1.0)
+    q = np.quantile(T, 1.0 - alpha, axis=0)
+    return CandidateTest(tuple(names), obs, std_obs, p_raw, np.maximum(p_adj, p_raw), q, tuple(best), n_draws)

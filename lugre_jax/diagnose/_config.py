@@ -1,0 +1,80 @@
+"""Every setting of the diagnosis in one place, each with the reason for its value."""
+
+from __future__ import annotations
+
+import dataclasses
+
+
+@dataclasses.dataclass(frozen=True)
+class DiagnoseConfig:
+    """Settings of :func:`~lugre_jax.diagnose.diagnose` (a frozen value; ``dataclasses.replace`` to vary).
+
+    Error rates:
+
+    - ``alpha`` (0.05): the family-wise false-alarm rate of a whole diagnosis on a recording the
+      baseline model describes. Half goes to locating residual structure (Holm over the residual
+      tests), half to naming a candidate (each step's candidates against the simulated null,
+      Westfall-Young min-p); a recording is called ``none`` only if neither fires.
+    - ``null_draws`` (99): simulated recordings per step of the selection; p-values are multiples of
+      1/(null_draws + 1), so 99 resolves 0.01 against the naming half of ``alpha``.
+    - ``kinematic_draws`` (8): draws of the kinematics' errors (each a fresh conditioning of the
+      recording); the torque noise is drawn afresh for every null draw, these are cycled. Eight
+      gives the systematic part of the errors (their mean, which does not average out through a
+      nonlinear model) to a third of its spread.
+    - ``seed`` (0): of the null draws; a diagnosis is reproducible.
+
+    The selection:
+
+    - ``max_effects`` (3): greedy steps; a fourth effect at the concealed level is beyond what the
+      studies can show.
+    - ``top_k`` (4): significant candidates refitted jointly per step (the refits dominate the cost).
+    - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
+    - ``identifiability_z`` (3.0): a named effect's key parameter must be this many standard errors
+      from its no-effect value in the joint fit (a candidate the excitation cannot determine is not
+      named even when its shapes reduce the residual).
+
+    The baseline and its floor:
+
+    - ``block_s`` (None: ~1 s, at least 25 blocks): length of the interleaved validation blocks;
+      every fifth block is held out.
+    - ``at_floor`` (1.1): validation RMSE over the estimated floor at or below which the baseline
+      counts as at its floor (a 10 % excess is what the floor estimate resolves).
+    - ``min_resolved`` (100): resolved training samples a baseline fit needs (about ten parameters).
+    - ``rechoose_share`` (0.05): the conditioning window is chosen again for the fitted inertia
+      when that lowers the kinematic torque error by more than this share of the torque noise
+      variance (the floor would change by ~2.5 %).
+    """
+
+    alpha: float = 0.05
+    null_draws: int = 99
+    kinematic_draws: int = 8
+    seed: int = 0
+    max_effects: int = 3
+    top_k: int = 4
+    max_steps: int = 80
+    identifiability_z: float = 3.0
+    block_s: float | None = None
+    at_floor: float = 1.1
+    min_resolved: int = 100
+    rechoose_share: float = 0.05
+
+    def __post_init__(self):
+        if not 0.0 < self.alpha < 1.0:
+            raise ValueError(f"DiagnoseConfig.alpha: expected a number in (0, 1), got {self.alpha}")
+        if self.null_draws < 19:
+            raise ValueError(f"DiagnoseConfig.null_draws: expected at least 19, got {self.null_draws}")
+        if self.kinematic_draws < 1:
+            raise ValueError(f"DiagnoseConfig.kinematic_draws: expected at least 1, got {self.kinematic_draws}")
+        if self.block_s is not None and not self.block_s > 0:
+            raise ValueError(f"DiagnoseConfig.block_s: expected a positive time, got {self.block_s}")
+
+    @property
+    def alpha_locate(self) -> float:
+        return 0.5 * self.alpha
+
+    @property
+    def alpha_name(self) -> float:
+        return 0.5 * self.alpha
+
+    def to_json(self) -> dict:
+        return dataclasses.asdict(self)
