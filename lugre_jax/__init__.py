@@ -20,6 +20,7 @@ from ._simulation import (
     AbstractStepping as AbstractStepping,
     Adaptive as Adaptive,
     FixedStep as FixedStep,
+    LaneAdaptive as LaneAdaptive,
     Lanes as Lanes,
     Sample as Sample,
     SampleMean as SampleMean,

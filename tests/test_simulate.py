@@ -205,7 +205,7 @@ def test_nonpositive_inertia_is_refused_concrete_or_traced():
 def test_bad_static_input_raises_valueerror():
     with pytest.raises(ValueError, match="whole number of samples"):
         lj.simulate(_pi_system(0.02), 1.005, 100.0)
-    with pytest.raises(ValueError, match="stepping must be"):
+    with pytest.raises(TypeError, match="stepping must be"):
         lj.simulate(_pi_system(0.02), 1.0, 100.0, stepping="rk45")
     with pytest.raises(ValueError, match="explicit Runge-Kutta"):
         lj.FixedStep(diffrax.Kvaerno5())
@@ -394,7 +394,7 @@ def test_sample_mean_flags_failed_lanes_and_rejects_bad_input():
     np.testing.assert_allclose(loss[:2], np.mean((sol.theta - sol.theta_ref)[:2] ** 2, axis=-1), rtol=1e-12)
     with pytest.raises(ValueError, match="not both"):
         lj.SaveAt(mean=_tracking, fn=lambda s: s.theta)
-    with pytest.raises(ValueError, match="SaveAt.mean must be a function"):
+    with pytest.raises(TypeError, match="SaveAt.mean must be a function"):
         lj.SaveAt(mean=3.0)
 
 

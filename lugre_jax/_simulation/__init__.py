@@ -26,6 +26,7 @@ from ._stepping import (
     AbstractStepping as AbstractStepping,
     Adaptive as Adaptive,
     FixedStep as FixedStep,
+    LaneAdaptive as LaneAdaptive,
     Lanes as Lanes,
     SaveAt as SaveAt,
 )

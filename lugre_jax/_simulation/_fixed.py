@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import jax
 import jax.numpy as jnp
 from jax.ad_checkpoint import checkpoint_name
@@ -11,7 +9,7 @@ from jax.ad_checkpoint import checkpoint_name
 from .._fusion import derivative_stored_once, runtime_one
 from .._fusion import stored_once as _stored_once
 from ._solution import RESULT_NONFINITE, RESULT_OK
-from ._stepping import step_for
+from ._stepping import step_for, step_plan
 from ._system import rates, sample, split
 
 _STAGE_INPUT = "lugre_jax_stage_input"
@@ -39,29 +37,41 @@ def rk_step(tableau, f, t, y, h, k0):
     # in a lane whose state is already NaN, so it changes no result.
     one = runtime_one(y[0])
     ks = [k0]
+    last = len(tableau.a_lower) - 1
     for i, a in enumerate(tableau.a_lower):
         # Named so that a reverse pass keeps them from its forward sweep (see _REMAT_POLICY).
         stage = tuple(checkpoint_name(c, _STAGE_INPUT) for c in _stored_once(combo(a), one))
-        ks.append(f(t + float(tableau.c[i]) * h, stage))
+        ks.append(f(stage_time(t, h, float(tableau.c[i]), tableau.fsal and i == last), stage))
     y1 = combo(tableau.b_sol)
     k1 = ks[-1] if tableau.fsal else f(t + h, y1)
     return y1, k1
 
 
-def step_plan(dt: float, sample_hz: float) -> tuple[int, int]:
-    """``(steps per sample, samples per step)`` for a fixed step ``dt`` [s]: either a step divides
-    the sample period (rounded down to a divisor), or it spans a whole number of samples."""
-    h_sample = 1.0 / sample_hz
-    if dt <= h_sample * (1 + 1e-9):
-        return max(1, math.ceil(h_sample / dt - 1e-9)), 1
-    m = round(dt / h_sample)
-    if abs(m * h_sample - dt) > 1e-9 * dt:
-        raise ValueError(
-            f"FixedStep.dt={dt!r} s is longer than the sample period 1/sample_hz={h_sample!r} s but not "
-            "a whole multiple of it; choose dt <= 1/sample_hz, or dt = k/sample_hz for an integer k "
-            "(the samples between steps are then interpolated)"
-        )
-    return 1, m
+def stage_time(t, h, c: float, fsal_stage: bool = False):
+    """Time of a stage at fraction ``c`` of the step ``[t, t + h]``.
+
+    A stage at the step's end that enters the step's update (Tsit5's and Dopri5's sixth) is
+    evaluated at the left limit, just below ``t + h``: the step belongs to the interval before a
+    discontinuity of the reference landing there. An FSAL stage is the next step's first slope and
+    is evaluated at ``t + h`` itself (the right limit)."""
+    if c == 1.0 and not fsal_stage:
+        return below(t + h)
+    return t + c * h
+
+
+# One or two units in the last place below / above a positive time: jnp.nextafter is a scalar
+# library call per element that XLA:CPU neither fuses nor vectorises.
+_ULP = 2.0**-52
+
+
+def below(t):
+    """A float just below a positive time ``t`` (the left limit of a discontinuity there)."""
+    return t * (1.0 - _ULP)
+
+
+def above(t):
+    """A float just above a positive time ``t`` (the right limit of a discontinuity there)."""
+    return t * (1.0 + _ULP)
 
 
 def rhs_evals(stepping, n: int, sample_hz: float) -> int:
@@ -89,10 +99,15 @@ def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
     def f(t, y):
         return rates(t, y, system)
 
-    def substep(carry, _):
-        t, y, k = carry
-        y1, k1 = rk_step(tableau, f, t, y, h, k)
-        return (t + h, y1, k1), None
+    def substep(carry, j):
+        t0, y, k = carry
+        # Times from the block's start and the substep's index, the last one ending exactly at the
+        # next block's start: a discontinuity of the reference on the grid is met at the same
+        # float time by the step that ends there and the step that starts there.
+        t = t0 + j * h
+        t_end = jnp.where(j == sub - 1, t0 + span * h_sample, t + h)
+        y1, k1 = rk_step(tableau, f, t, y, t_end - t, k)
+        return (t0, y1, k1), None
 
     def block(carry, i):
         # Emit the state at the block's first sample, then step to the next block (one sample, or
@@ -106,7 +121,7 @@ def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
         for c in y:
             finite = finite & jnp.isfinite(c)
         t0 = i * span * h_sample
-        (_, y1, k1), _ = jax.lax.scan(substep, (t0, y, k), None, length=sub)
+        (_, y1, k1), _ = jax.lax.scan(substep, (t0, y, k), jnp.arange(sub))
         rows = [y] + [_hermite(y, k, y1, k1, h, j / span) for j in range(1, span)]
         if sample_fn is None:
             out = y if span == 1 else tuple(jnp.stack(col) for col in zip(*rows))

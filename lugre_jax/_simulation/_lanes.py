@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -11,9 +13,50 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from .._types import PyTree
 from ._jit import join_arrays, split_arrays
 
-DEFAULT_CHUNK = 200  # simulate's forward solves: a step's working set stays in cache
+DEFAULT_CHUNK = 200  # simulate's forward solves on a CPU: a step's working set stays in cache
+_MEMORY_SHARE = 0.5  # of an accelerator's free memory, for one call's lanes
 _MAP_LANES_CHUNK = 64  # map_lanes' reverse passes store each lane's state per step: smaller chunks
 _VECTOR_LANES = 8  # float64 lanes of a 512-bit vector (lugre_jax.configure's vector width)
+
+
+@dataclasses.dataclass(frozen=True)
+class DeviceInfo:
+    """What the lane layout needs to know of a device: its platform (``"cpu"``, ``"gpu"``,
+    ``"tpu"``) and its free memory in bytes (``None`` when the backend does not say)."""
+
+    platform: str
+    free_bytes: int | None = None
+    kind: str = ""
+
+
+_CPU_INFO: dict = {}
+
+
+def device_info(device=None) -> DeviceInfo:
+    """:class:`DeviceInfo` of ``device`` (default: the first local device)."""
+    device = jax.local_devices()[0] if device is None else device
+    if device.platform == "cpu":  # no memory statistics to read: one description per device
+        info = _CPU_INFO.get(device.id)
+        if info is None:
+            info = _CPU_INFO[device.id] = DeviceInfo("cpu", None, getattr(device, "device_kind", "cpu"))
+        return info
+    free = None
+    try:
+        stats = device.memory_stats()
+    except Exception:  # backends without memory statistics (XLA:CPU) raise or return None
+        stats = None
+    if stats and "bytes_limit" in stats:
+        free = int(stats["bytes_limit"]) - int(stats.get("bytes_in_use", 0))
+    return DeviceInfo(device.platform, free, getattr(device, "device_kind", ""))
+
+
+def default_chunk(info: DeviceInfo, lanes: int, lane_bytes: int, cpu_chunk: int = DEFAULT_CHUNK) -> int:
+    """Lanes per chunk when :class:`Lanes` gives none: on a CPU ``cpu_chunk`` (a step's working set
+    stays in cache); on an accelerator as many lanes as half its free memory holds at
+    ``lane_bytes`` per lane (all ``lanes`` in one chunk when they fit), so its cores are filled."""
+    if info.platform == "cpu" or info.free_bytes is None:
+        return cpu_chunk
+    return max(1, min(lanes, int(_MEMORY_SHARE * info.free_bytes) // max(1, int(lane_bytes))))
 
 
 def split_lanes(tree, what: str, fix: str):
@@ -60,20 +103,24 @@ def stack_systems(systems: list):
     return jax.tree.map(stack, *systems)
 
 
-def chunked_lanes(key, one_lane, lanes, chunk_size, shard: bool, default_chunk: int = DEFAULT_CHUNK,
-                  lane_multiple: int = 1):
+def chunked_lanes(key, one_lane, lanes, chunk_size, shard: bool, cpu_chunk: int = DEFAULT_CHUNK,
+                  lane_multiple: int = 1, batched_fn: bool = False, lane_bytes: int = 0,
+                  device: DeviceInfo | None = None):
     """``jax.vmap(one_lane)(tree)`` over the ``b`` lanes (leading axis) of ``tree``'s arrays, in
     chunks, split across host devices when ``shard``; compiled once per ``key`` (hashable).
     ``lanes`` is ``split_lanes(tree, ...)``. A default chunk of more than ``lane_multiple`` lanes
-    is rounded up to a multiple of it."""
+    is rounded up to a multiple of it; the default chunk is :func:`default_chunk` for ``device``
+    (default: the first local device's :func:`device_info`) at ``lane_bytes`` per lane. With ``batched_fn``, ``one_lane`` takes a whole chunk (every
+    array leaf with a leading lane axis) and is not vmapped."""
     arrays, spec, b = lanes
     devices = jax.local_devices()
     ndev = max(1, min(len(devices) if shard else 1, b))
     per_dev = -(-b // ndev)
     if chunk_size is None:
+        chunk_default = default_chunk(device_info() if device is None else device, per_dev, lane_bytes, cpu_chunk)
         # Balanced so that padding stays below one lane per chunk, or below ``lane_multiple``
         # lanes per chunk when chunks are rounded up to whole vectors.
-        n_chunks = -(-per_dev // default_chunk)
+        n_chunks = -(-per_dev // chunk_default)
         chunk = -(-per_dev // n_chunks)
         if chunk > lane_multiple:
             chunk = -(-chunk // lane_multiple) * lane_multiple
@@ -83,7 +130,7 @@ def chunked_lanes(key, one_lane, lanes, chunk_size, shard: bool, default_chunk: 
     total = per_dev * ndev
     if total != b:  # pad with copies of lane 0, dropped afterwards
         arrays = [jnp.concatenate([x, jnp.repeat(x[:1], total - b, 0)]) for x in arrays]
-    fn = _compiled(ndev, chunk, key, one_lane)
+    fn = _compiled(ndev, chunk, key, one_lane, batched_fn)
     if ndev > 1:
         mesh = Mesh(np.array(devices[:ndev]), ("lanes",))
         arrays = jax.device_put(arrays, NamedSharding(mesh, PartitionSpec("lanes")))
@@ -95,9 +142,9 @@ def chunked_lanes(key, one_lane, lanes, chunk_size, shard: bool, default_chunk: 
 _CACHE: dict = {}
 
 
-def _compiled(ndev: int, chunk: int, key, one_lane):
+def _compiled(ndev: int, chunk: int, key, one_lane, batched_fn: bool = False):
     """One jitted function per (devices, chunk, key): repeated calls reuse the compilation."""
-    key = (ndev, chunk, key)
+    key = (ndev, chunk, key, batched_fn)
     fn = _CACHE.get(key)  # one hash of the key (it holds equinox Modules, hashed field by field)
     if fn is not None:
         return fn
@@ -107,7 +154,10 @@ def _compiled(ndev: int, chunk: int, key, one_lane):
         dyn, static = eqx.partition(tree, eqx.is_array)
         n_lanes = jax.tree.leaves(dyn)[0].shape[0]
         dyn = jax.tree.map(lambda x: x.reshape((n_lanes // chunk, chunk) + x.shape[1:]), dyn)
-        per_chunk = jax.vmap(lambda d: one_lane(eqx.combine(d, static)))
+        if batched_fn:
+            per_chunk = lambda d: one_lane(eqx.combine(d, static))  # noqa: E731
+        else:
+            per_chunk = jax.vmap(lambda d: one_lane(eqx.combine(d, static)))
         if n_lanes > chunk:
             # Under reverse mode a lax.map stores every iteration's residuals before its first
             # backward step: all chunks' stored states at once, out of cache. Each chunk is

@@ -12,12 +12,13 @@ import numpy as np
 
 from ..xla import require_x64
 from ._adaptive import solve_adaptive
-from ._fixed import rhs_evals, solve_fixed, step_plan
+from ._fixed import rhs_evals, solve_fixed
 from ._jit import array_jit
 from ._lanes import _SYSTEM_LANES, batch_size_of, chunked_lanes, split_lanes
 from ._solution import RESULT_OK, SampleMean, Solution
-from ._stepping import AbstractStepping, Adaptive, FixedStep, Lanes, SaveAt, step_for
-from ._system import System, sample, signals, split
+from ._lanewise import solve_lanewise
+from ._stepping import AbstractStepping, Adaptive, FixedStep, LaneAdaptive, Lanes, SaveAt, step_for, step_plan
+from ._system import N_STATES, System, sample, signals, split
 
 # Below this many right-hand-side evaluations per call, splitting lanes over host devices costs more
 # than the second device gains (the split has a fixed cost per call; docs/performance.md).
@@ -81,8 +82,39 @@ def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepp
     return sol if saveat.fn is None else saveat.fn(sol)
 
 
+def _solve_chunk(system: System, n: int, sample_hz: float, stepping: LaneAdaptive, saveat: SaveAt,
+                 check_inertia: bool = True):
+    """:func:`_solve_one` for a whole chunk of lanes at once (``LaneAdaptive`` runs its loop at the
+    level of the batch)."""
+    if check_inertia:
+        J = eqx.error_if(system.joint.J, ~(system.joint.J > 0), _J_MESSAGE)
+        system = eqx.tree_at(lambda s: s.joint.J, system, J)
+    ys, res, _ = solve_lanewise(system, n, sample_hz, stepping)
+    ts = jnp.arange(n) / sample_hz
+
+    def finish(s_, y_, r_):
+        if saveat.mean is not None:
+            vals = jax.vmap(lambda i, t, y: saveat.mean(sample(s_, i, t, split(y))))(jnp.arange(n), ts, y_)
+            return SampleMean(jax.tree.map(lambda v: jnp.mean(v, axis=0), vals), r_)
+        sol = _outputs(s_, ts, y_, r_)
+        return sol if saveat.fn is None else saveat.fn(sol)
+
+    return eqx.filter_vmap(finish)(system, ys, res)
+
+
+def _solve_lanewise_one(system, n, sample_hz, stepping, saveat, check_inertia=True):
+    one = jax.tree.map(lambda x: x[None] if eqx.is_array(x) else x, system)
+    return jax.tree.map(lambda x: x[0], _solve_chunk(one, n, sample_hz, stepping, saveat, check_inertia))
+
+
 # Arrays of the arguments traced, the rest (grid, stepping, saveat, Python numbers) static.
-_jit_one = array_jit(lambda args: _solve_one(*args))
+_jit_one = array_jit(lambda args: (_solve_lanewise_one if isinstance(args[3], LaneAdaptive) else _solve_one)(*args))
+
+
+def default_stepping(batched: bool) -> AbstractStepping:
+    """:func:`simulate`'s stepping when none is given: :class:`Adaptive` for one scenario,
+    :class:`LaneAdaptive` (each lane its own error-controlled step) for a batch."""
+    return LaneAdaptive() if batched else Adaptive()
 
 
 def simulate(
@@ -100,10 +132,12 @@ def simulate(
     Samples at ``t = 0, 1/sample_hz, ..., duration_s``: positions in deg, velocities in deg/s,
     torques in N*m, time in s.
 
-    ``stepping``: how the ODE is stepped. Default :class:`Adaptive` (Tsit5, rtol 1e-8, atol
-    1e-10, stepping onto every discontinuity of the reference): correct by default, agreeing with
-    a stiff scipy reference to 1e-6 deg in position and 1e-4 N*m in torque. For speed on batches
-    choose :class:`FixedStep` explicitly (e.g. ``FixedStep(diffrax.Bosh3(), dt=0.02)``) and check it
+    ``stepping``: how the ODE is stepped. Default for one scenario :class:`Adaptive` (Tsit5, rtol
+    1e-8, atol 1e-10, stepping onto every discontinuity of the reference), agreeing with a stiff
+    scipy reference to 1e-6 deg in position and 1e-4 N*m in torque; for a batch
+    :class:`LaneAdaptive` (Tsit5, rtol 1e-6, atol 1e-9, each lane its own step, forward mode
+    only), within 2e-6 deg of a tight solve on the benchmarks of docs/performance.md. For
+    ``jax.grad`` through a batch pass :class:`Adaptive` or :class:`FixedStep`; check a fixed step
     with :func:`check_stepping`.
 
     ``saveat``: what is returned per lane (:class:`SaveAt`): the whole :class:`Solution` (default),
@@ -119,14 +153,14 @@ def simulate(
     are never reported as success. Differentiable in every leaf of ``system``.
     """
     require_x64()
-    stepping = Adaptive() if stepping is None else stepping
+    stepping = default_stepping(batched) if stepping is None else stepping
     if not isinstance(stepping, AbstractStepping):
-        raise ValueError(f"stepping must be lugre_jax.FixedStep(...) or lugre_jax.Adaptive(...), got "
-                         f"{type(stepping).__name__}")
+        raise TypeError(f"stepping must be lugre_jax.Adaptive(...), LaneAdaptive(...) or FixedStep(...), got "
+                        f"{type(stepping).__name__}")
     if not isinstance(saveat, SaveAt):
-        raise ValueError(f"saveat must be a lugre_jax.SaveAt, got {type(saveat).__name__}")
+        raise TypeError(f"saveat must be a lugre_jax.SaveAt, got {type(saveat).__name__}")
     if not isinstance(lanes, Lanes):
-        raise ValueError(f"lanes must be a lugre_jax.Lanes, got {type(lanes).__name__}")
+        raise TypeError(f"lanes must be a lugre_jax.Lanes, got {type(lanes).__name__}")
     sample_hz = float(sample_hz)
     n = _sample_grid(float(duration_s), sample_hz)
     if isinstance(stepping, FixedStep):
@@ -141,8 +175,14 @@ def simulate(
         shard = len(jax.local_devices()) > 1 and isinstance(stepping, FixedStep) and \
             b * rhs_evals(stepping, n, sample_hz) >= _SHARD_MIN_EVALS
     key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
-    out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), split,
-                        lanes.chunk_size, shard)
+    # a lane's stored samples and working arrays (the solution's columns, a step's stages)
+    lane_bytes = 8 * n * (N_STATES + 8) + 8 * 64 * N_STATES
+    if isinstance(stepping, LaneAdaptive):
+        out = chunked_lanes(key, lambda s: _solve_chunk(s, n, sample_hz, stepping, saveat, check_inertia), split,
+                            lanes.chunk_size, shard, batched_fn=True, lane_bytes=lane_bytes)
+    else:
+        out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), split,
+                            lanes.chunk_size, shard, lane_bytes=lane_bytes)
     if saveat.fn is None and saveat.mean is None:
         out = eqx.tree_at(lambda s: s.ts, out, out.ts[0])
     return out
@@ -151,7 +191,8 @@ def simulate(
 @dataclasses.dataclass(frozen=True)
 class SteppingCheck:
     """How far a stepping is from a tight adaptive reference on a few lanes (max over lanes and
-    samples): position [deg], velocity [deg/s], actuator torque [N*m]."""
+    samples): position [deg], velocity [deg/s], actuator torque [N*m]; ``theta_deg_per_lane`` the
+    largest position deviation of each checked lane (NaN where a solve failed)."""
 
     stepping: str
     reference: str
@@ -160,18 +201,21 @@ class SteppingCheck:
     omega_deg_s: float
     torque_nm: float
     failed_lanes: tuple[int, ...]
+    theta_deg_per_lane: tuple[float, ...] = ()
 
     def to_json(self) -> dict:
         return dataclasses.asdict(self)
 
 
-def check_stepping(system: System, duration_s: float, sample_hz: float, stepping: AbstractStepping, *,
-                   batched: bool = False, n_lanes: int = 4,
+def check_stepping(system: System, duration_s: float, sample_hz: float, stepping: AbstractStepping | None = None,
+                   *, batched: bool = False, n_lanes: int = 4,
                    reference: AbstractStepping = Adaptive(diffrax.Kvaerno5(), rtol=1e-10, atol=1e-12)
                    ) -> SteppingCheck:
     """Re-solve up to ``n_lanes`` lanes (evenly spread over the batch) with ``reference`` and report
-    the largest deviation of ``stepping``'s solution from it: whether a fixed step was too coarse.
-    The reference is implicit (Kvaerno5) so that it holds on stiff lanes too.
+    the largest deviation of ``stepping``'s solution (default: what :func:`simulate` uses with
+    ``batched``) from it: how far a call's fast path may be from a tight solve. The reference is
+    implicit (Kvaerno5) so that it holds on stiff lanes too. It costs a tight solve of
+    ``n_lanes`` lanes, so call it once per kind of batch, not on every call.
 
     Lanes where either solve failed are listed in ``failed_lanes`` and left out of the maxima.
     """
@@ -181,6 +225,7 @@ def check_stepping(system: System, duration_s: float, sample_hz: float, stepping
         picked = jax.tree.map(lambda x: x[np.asarray(idx)] if eqx.is_array(x) else x, system)
     else:
         idx, picked = (0,), jax.tree.map(lambda x: x[None] if eqx.is_array(x) else x, system)
+    stepping = default_stepping(batched) if stepping is None else stepping
     a = simulate(picked, duration_s, sample_hz, stepping=stepping, batched=True)
     r = simulate(picked, duration_s, sample_hz, stepping=reference, batched=True)
     ok = np.asarray((a.result == RESULT_OK) & (r.result == RESULT_OK))
@@ -194,4 +239,6 @@ def check_stepping(system: System, duration_s: float, sample_hz: float, stepping
         theta_deg=worst(a.theta, r.theta), omega_deg_s=worst(a.omega, r.omega),
         torque_nm=worst(a.torque_nm, r.torque_nm),
         failed_lanes=tuple(i for i, good in zip(idx, ok) if not good),
+        theta_deg_per_lane=tuple(float(np.max(np.abs(np.asarray(x) - np.asarray(y)))) if good else float("nan")
+                                 for x, y, good in zip(a.theta, r.theta, ok)),
     )

@@ -1,0 +1,156 @@
+"""The batched simulator against a careful user's scipy loop, at matched accuracy (issue #33's table).
+
+    python benchmarks/sim_vs_scipy.py [--lanes 2000] [--scipy-lanes 20] [--tight-lanes N]
+                                      [--out benchmarks/results/sim_vs_scipy_2000.json]
+
+The scenario: the paper's joint (J 0.128, segment 1 of Tables 1-2) under velocity PI (kp 8, ki 60),
+a staircase 0.02 / 0.1 / -0.05 / 0.5 deg/s with sharp steps every 5 s, 20 s at 100 Hz; per lane Fs
+drawn in [3, 8] N*m and sigma0 in [50, 200] N*m/deg (seed 0). The scipy loop is what a careful user
+writes: ``solve_ivp`` LSODA at rtol 1e-6, atol 1e-9, restarted at each step of the staircase, one
+lane after another (timed on ``--scipy-lanes`` lanes, per solve). Every row is scored against a
+tight solve (``Adaptive(Tsit5(), rtol=1e-11, atol=1e-13)``, itself checked against scipy Radau at
+rtol 1e-11 in tests/test_simulate_reference.py) on ``--tight-lanes`` lanes spread over the batch
+(default: all). Batched rows are timed as the best of two calls after compilation, in this process,
+through the public API only. Prints one line per row and writes the JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+import lugre_jax as lj
+
+ROOT = Path(__file__).resolve().parents[1]
+LEVELS, DWELL, DURATION, HZ = (0.02, 0.1, -0.05, 0.5), 5.0, 20.0, 100.0
+KP, KI = 8.0, 60.0
+
+
+def draw(lanes: int, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    return rng.uniform(3.0, 8.0, lanes), rng.uniform(50.0, 200.0, lanes)
+
+
+def batch(Fs, sigma0):
+    import equinox as eqx
+    import jax.numpy as jnp
+
+    one = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=lj.PAPER_J),
+                    controller=lj.VelocityPID(kp=KP, ki=KI), reference=lj.VelocitySteps(list(LEVELS), dwell_s=DWELL))
+    sys_b = lj.broadcast_system(one, len(Fs))
+    return eqx.tree_at(lambda s: (s.friction.Fs, s.friction.sigma0), sys_b, (jnp.asarray(Fs), jnp.asarray(sigma0)))
+
+
+def scipy_loop(Fs: float, sigma0: float, rtol=1e-6, atol=1e-9, method="LSODA"):
+    """One lane as a careful scipy user solves it: restarted at each step of the staircase."""
+    from scipy.integrate import solve_ivp
+
+    seg = lj.paper_segment(1)
+    Fc, vs, s1, s2 = (float(seg.Fc), float(seg.vs), float(seg.sigma1), float(seg.sigma2))
+    J = lj.PAPER_J
+
+    def make(v_ref):
+        def rhs(t, y):
+            theta, omega, z, xi = y
+            g = Fc + (Fs - Fc) * math.exp(-(omega / vs) ** 2)
+            dz = omega - sigma0 * abs(omega) * z / g
+            f = sigma0 * z + s1 * dz + s2 * omega
+            return [omega, (KP * (v_ref - omega) + KI * xi - f) / J, dz, v_ref - omega]
+        return rhs
+
+    ts = np.arange(int(round(DURATION * HZ)) + 1) / HZ
+    out, y = np.zeros(len(ts)), np.zeros(4)
+    for k, v in enumerate(LEVELS):
+        a, b = k * DWELL, (k + 1) * DWELL
+        sel = (ts >= a) & ((ts < b) | (k == len(LEVELS) - 1))
+        te = ts[sel] if ts[sel][-1] >= b else np.append(ts[sel], b)
+        r = solve_ivp(make(v), (a, b), y, method=method, rtol=rtol, atol=atol, t_eval=te)
+        out[sel] = r.y[0, :int(sel.sum())]
+        y = r.y[:, -1]
+    return out
+
+
+def timed(fn, repeat=2):
+    fn()
+    best = np.inf
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--lanes", type=int, default=2000)
+    ap.add_argument("--scipy-lanes", type=int, default=20)
+    ap.add_argument("--tight-lanes", type=int, default=None, help="lanes scored against the tight solve")
+    ap.add_argument("--rows", default="default,adaptive,bosh3", help="batched rows to run (also: lane)")
+    ap.add_argument("--out", default=None)
+    a = ap.parse_args(argv)
+    lj.configure(host_devices=2)
+    import diffrax
+    import jax
+
+    Fs, sigma0 = draw(a.lanes)
+    system = batch(Fs, sigma0)
+    n_tight = a.lanes if a.tight_lanes is None else min(a.tight_lanes, a.lanes)
+    picked = np.unique(np.linspace(0, a.lanes - 1, n_tight).round().astype(int))
+    t0 = time.perf_counter()
+    tight = np.asarray(lj.simulate(batch(Fs[picked], sigma0[picked]), DURATION, HZ, batched=True,
+                                   stepping=lj.Adaptive(rtol=1e-11, atol=1e-13)).theta)
+    tight_s = time.perf_counter() - t0
+    print(f"tight solve of {len(picked)} lanes: {tight_s:.1f} s", flush=True)
+
+    rows = []
+    sl = picked[np.unique(np.linspace(0, len(picked) - 1, min(a.scipy_lanes, len(picked))).round().astype(int))]
+    t = time.perf_counter()
+    errs = [np.max(np.abs(scipy_loop(Fs[i], sigma0[i]) - tight[np.searchsorted(picked, i)])) for i in sl]
+    per = (time.perf_counter() - t) / len(sl)
+    rows.append(dict(row="scipy loop (LSODA rtol 1e-6 atol 1e-9, restarted per step)", per_solve_ms=1e3 * per,
+                     speedup=1.0, max_err_deg=float(max(errs)), lanes_scored=len(sl)))
+    print(f"{rows[-1]['row']:60s} {1e3 * per:9.3f} ms/solve  err {max(errs):.1e} deg", flush=True)
+
+    choices = {"default": ("lj.simulate(..., batched=True), no stepping given", None),
+               "adaptive": ("Adaptive() (Tsit5, rtol 1e-8, atol 1e-10)", lj.Adaptive()),
+               "bosh3": ("FixedStep(Bosh3(), dt=0.005)", lj.FixedStep(diffrax.Bosh3(), dt=0.005)),
+               "lane": ("LaneAdaptive() (Tsit5, rtol 1e-6, atol 1e-9)", lj.LaneAdaptive())}
+    for key in a.rows.split(","):
+        label, stepping = choices[key]
+        t = time.perf_counter()
+        sol = lj.simulate(system, DURATION, HZ, batched=True, stepping=stepping)
+        theta = np.asarray(sol.theta)
+        first = time.perf_counter() - t
+        wall = timed(lambda: jax.block_until_ready(lj.simulate(system, DURATION, HZ, batched=True,
+                                                               stepping=stepping).theta))
+        err = np.max(np.abs(theta[picked] - tight), axis=1)
+        ok = int(np.sum(np.asarray(sol.result) == lj.RESULT_OK))
+        rows.append(dict(row=label, per_solve_ms=1e3 * wall / a.lanes, speedup=per / (wall / a.lanes),
+                         max_err_deg=float(err.max()), median_err_deg=float(np.median(err)),
+                         lanes_within_2e6=int(np.sum(err <= 2e-6)), lanes_scored=len(picked),
+                         first_call_s=first, call_s=wall, lanes_ok=ok))
+        r = rows[-1]
+        print(f"{label:60s} {r['per_solve_ms']:9.4f} ms/solve  {r['speedup']:6.1f}x the loop  err max "
+              f"{r['max_err_deg']:.1e} deg ({r['lanes_within_2e6']}/{len(picked)} lanes <= 2e-6)  "
+              f"call {wall:.2f} s (first {first:.1f} s)", flush=True)
+    result = dict(command="python benchmarks/sim_vs_scipy.py " + " ".join(argv or []), lanes=a.lanes,
+                  device=f"{jax.devices()[0].platform}: {platform.processor() or platform.machine()}, "
+                         f"{os.cpu_count()} cores, {len(jax.devices())} XLA devices",
+                  jax=jax.__version__, loadavg=os.getloadavg(), tight_s=tight_s, rows=rows)
+    out = Path(a.out or ROOT / "benchmarks" / "results" / f"sim_vs_scipy_{a.lanes}.json")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(result, indent=1))
+    print(out)
+
+
+if __name__ == "__main__":
+    import sys
+
+    main(sys.argv[1:])

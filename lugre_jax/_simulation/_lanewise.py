@@ -1,0 +1,147 @@
+"""Error-controlled explicit Runge-Kutta with a step size of each lane's own, in one lean loop.
+
+Under ``vmap`` every lane runs the same number of loop iterations (the largest lane's count), but
+each lane advances its own time with its own step: a lane that slips takes small steps while its
+neighbours in the batch take large ones. An iteration is one step attempt: the stages unrolled
+(as the fixed-step loop), an embedded error estimate, an integral step-size controller, the
+samples crossed by the step written by cubic Hermite interpolation, and no other bookkeeping.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ._fixed import above, below
+from ._solution import RESULT_NONFINITE, RESULT_OK, RESULT_SOLVER_FAILED
+from ._system import N_STATES, rates, split
+
+
+def end_stage(tableau) -> int:
+    """Index (into the stages, 0 = ``k0``) of a stage at the step's end that enters the update:
+    its slope, taken at the left limit, is the step's end slope."""
+    for i, (c, b) in enumerate(zip(tableau.c, tableau.b_sol[1:])):
+        if float(c) == 1.0 and float(b) != 0.0 and not (tableau.fsal and i == len(tableau.c) - 1):
+            return i + 1
+    raise ValueError("LaneAdaptive needs a tableau with a stage at the step's end that enters the update "
+                     "(Tsit5, Dopri5)")
+
+
+def _hermite(y0, k0, y1, k1, h, s):
+    s2, s3 = s * s, s * s * s
+    a, b, c, d = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s, 3 * s2 - 2 * s3, s3 - s2
+    return tuple(a * p + (b * h) * kp + c * q + (d * h) * kq for p, kp, q, kq in zip(y0, k0, y1, k1))
+
+
+def solve_lanewise(system, n: int, sample_hz: float, stepping):
+    """``(ys (b, n, 8), result (b,), steps (b,))`` at the samples ``i/sample_hz`` for a batched
+    ``system`` (every array leaf with a leading lane axis ``b``); never raises.
+
+    Written at the level of the batch, not vmapped: under ``vmap`` a ``while_loop`` with a per-lane
+    condition selects between the old and the new value of its whole carry on every iteration,
+    output buffer included. Here the loop's condition is one scalar (some lane still running), a
+    finished lane steps no further (its step is zero and writes nothing) and only the samples a
+    step crosses are written."""
+    tab = stepping.solver.tableau
+    order = 5
+    i_end = end_stage(tab)
+    fsal = tab.fsal
+    h_sample = 1.0 / sample_hz
+    t_final = (n - 1) * h_sample
+    per_step = max(1, int(round(stepping.dtmax * sample_hz)))
+    dtmax = per_step * h_sample
+    rtol, atol = stepping.rtol, stepping.atol
+    y0_all = system.y0
+    b = y0_all.shape[0]
+
+    def one_lane(sys_, t, y, k0, h, landed):
+        def f(ti, yi):
+            return rates(ti, yi, sys_)
+
+        ks = [k0]
+        t1 = t + h
+        for i, a in enumerate(tab.a_lower):
+            stage = tuple(yc + h * sum(float(c) * k[j] for c, k in zip(a, ks) if c != 0) for j, yc in enumerate(y))
+            c = float(tab.c[i])
+            if fsal and i == len(tab.a_lower) - 1:
+                # the next step's first slope: at the right limit when the step lands on a jump
+                ti = jnp.where(landed, above(t1), t1)
+            elif c == 1.0:
+                ti = below(t1)  # the step belongs to the interval before t1
+            else:
+                ti = t + c * h
+            ks.append(f(ti, stage))
+        y1 = tuple(yc + h * sum(float(w) * k[j] for w, k in zip(tab.b_sol, ks) if w != 0) for j, yc in enumerate(y))
+        k_next = ks[-1] if fsal else f(t1, y1)
+        # On a step that lands on a jump, the end slope for the error estimate and the interpolant
+        # is the end stage's (left limit); the FSAL stage's belongs to the next interval.
+        k_end = tuple(jnp.where(landed, u, v) for u, v in zip(ks[i_end], ks[-1])) if fsal else ks[i_end]
+        err_ks = list(ks)
+        if fsal:
+            err_ks[-1] = k_end
+        ratio = jnp.asarray(0.0)
+        for j, (u, v) in enumerate(zip(y, y1)):
+            e = h * sum(float(w) * k[j] for w, k in zip(tab.b_error, err_ks) if w != 0)
+            ratio = jnp.maximum(ratio, jnp.abs(e) / (atol + rtol * jnp.maximum(jnp.abs(u), jnp.abs(v))))
+        return y1, k_next, k_end, ratio
+
+    attempt = eqx.filter_vmap(one_lane)
+    rhs = eqx.filter_vmap(lambda s_, ti, yi: rates(ti, yi, s_))
+    jumps = eqx.filter_vmap(lambda s_: jnp.atleast_1d(s_.reference.jump_times()))(system)  # (b, k)
+    k_rows = per_step + 1  # samples a step of about dtmax can cross
+    lanes = jnp.arange(b)
+
+    def cond(carry):
+        return jnp.any(carry[-1])
+
+    def body(carry):
+        t, y, k0, h_try, buf, steps, ok, running = carry
+        nxt = jnp.min(jnp.where(jumps > t[:, None], jumps, jnp.inf), axis=1)
+        h = jnp.minimum(h_try, dtmax)
+        # land on the next discontinuity and on the end (a step that would stop just short of
+        # either is stretched onto it)
+        land = t + 1.01 * h >= nxt
+        h = jnp.where(land, nxt - t, h)
+        end = t + 1.01 * h >= t_final
+        h = jnp.where(end, t_final - t, h)
+        land = land & (nxt <= t_final)
+        h = jnp.where(running, h, 0.0)
+        y1, k1, k_end, ratio = attempt(system, t, y, k0, h, land)
+        finite = jnp.isfinite(ratio)
+        accept = running & (ratio <= 1.0) & finite
+        t1 = jnp.where(end, t_final, t + h)
+        # samples in (t, t1], cubic Hermite from the step's end values and slopes
+        first = jnp.floor(t * sample_hz + 1e-7).astype(jnp.int32) + 1
+        last = jnp.floor(t1 * sample_hz + 1e-7).astype(jnp.int32)
+        inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
+        for r in range(k_rows):
+            i = first + r
+            s = jnp.clip((i * h_sample - t) * inv_h, 0.0, 1.0)
+            row = jnp.stack(_hermite(y, k0, y1, k_end, h, s), axis=-1)
+            idx = jnp.where(accept & (i <= last), i, n)  # n: out of range, dropped
+            buf = buf.at[lanes, idx].set(row, mode="drop")
+        factor = jnp.where(finite, 0.9 * jnp.maximum(ratio, 1e-10) ** (-1.0 / order), 0.2)
+        h_new = jnp.where(running, h * jnp.clip(factor, 0.2, 5.0), h_try)
+        # a step cut short to land on a jump keeps the proposal it was cut from
+        h_new = jnp.where(accept & land, jnp.maximum(h_new, h_try), h_new)
+        collapsed = running & (h_new < 1e-12 * max(t_final, 1.0))
+        t = jnp.where(accept, t1, t)
+        y = tuple(jnp.where(accept, u, v) for u, v in zip(y1, y))
+        k0 = tuple(jnp.where(accept, u, v) for u, v in zip(k1, k0))
+        steps = steps + running
+        ok = ok & ~collapsed
+        running = ok & (t < t_final) & (steps < stepping.max_steps)
+        return t, y, k0, h_new, buf, steps, ok, running
+
+    y0 = split(y0_all)
+    zeros = jnp.zeros((b,), y0_all.dtype)
+    buf = jnp.zeros((b, n, N_STATES), dtype=y0_all.dtype).at[:, 0].set(y0_all)
+    h0 = jnp.full((b,), min(stepping.dt0, dtmax), y0_all.dtype)
+    init = (zeros, y0, rhs(system, zeros, y0), h0, buf, jnp.zeros((b,), jnp.int32), jnp.ones((b,), bool),
+            jnp.full((b,), t_final > 0))
+    t, _, _, _, buf, steps, ok, _ = jax.lax.while_loop(cond, body, init)
+    finished = ok & (t >= t_final)
+    finite = jnp.all(jnp.isfinite(buf), axis=(1, 2))
+    code = jnp.where(finished, jnp.where(finite, RESULT_OK, RESULT_NONFINITE), RESULT_SOLVER_FAILED)
+    return buf, code, steps
