@@ -437,7 +437,8 @@ def run_benchmark(quick: bool = False, progress=None) -> dict:
                       "20 s sampled at 100 Hz; lane parameters scaled by U[0.9, 1.1]",
                       duration_s=DURATION, sample_hz=HZ, v_cmd_deg_s=V_CMD),
         machine=dict(cpu_count=os.cpu_count(), devices=len(jax.devices()), jax=jax.__version__,
-                     python=platform.python_version(), processor=platform.processor()),
+                     python=platform.python_version(), processor=platform.processor(),
+                     device=f"{jax.devices()[0].platform}: {getattr(jax.devices()[0], 'device_kind', '')}"),
         quick=quick,
     )
     rows, sc = accuracy_table(bar)

@@ -18,6 +18,9 @@ compiled program (the last chunk is padded to full size), so the result does not
 a run was interrupted. Process ``rank`` of ``world`` computes chunks ``i = rank (mod world)``;
 rank 0 waits for the others' chunk files (a shared folder) and writes the analysis.
 
+accuracy.json          the fast stepping against a tight solve on points spread over the box
+                       (SPEC key ``accuracy``; also in summary.json and indices.json)
+
 Status per point: 0 solved by the fast fixed step, 1 failed it and solved by the stiff adaptive
 Kvaerno5, 2 failed both (its outputs are NaN in the files and it is left out of every analysis).
 """
@@ -27,15 +30,17 @@ from __future__ import annotations
 import dataclasses
 import json
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
+import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._simulation import RESULT_OK, Lanes, SaveAt, simulate
+from .._simulation import RESULT_OK, Adaptive, Lanes, SaveAt, simulate
 from ..io import atomic_path, write_csv, write_json
 from ._paths import batch_system
 from ._sample import Grid, Saltelli
@@ -45,6 +50,10 @@ from ._spec import SweepSpec
 STATUS_FAST, STATUS_STIFF, STATUS_FAILED = 0, 1, 2
 _CSV_MAX = 262_144
 _MANIFEST = "manifest.json"
+_ACCURACY = "accuracy.json"
+# The accuracy check's reference: implicit, so it holds on stiff lanes, and far tighter than any
+# metric's tolerance.
+TIGHT = Adaptive(diffrax.Kvaerno5(), rtol=1e-9, atol=1e-11, max_steps=200_000)
 
 
 class _Reduce(eqx.Module):
@@ -94,6 +103,65 @@ def run_chunk(spec: SweepSpec, X: np.ndarray, *, shard: bool | None = None) -> t
     return Y, status
 
 
+def check_accuracy(spec: SweepSpec, *, shard: bool | None = None) -> dict:
+    """The fast stepping (with its fallback, as the sweep runs it) against a tight stiff solve on
+    ``spec.accuracy.lanes`` points spread over the box (scrambled Sobol', ``spec.seed``): per output
+    the largest absolute deviation, the output's largest magnitude on those points (its scale), and
+    whether the deviation is within ``rtol`` times that scale. Lanes where the tight solve or both
+    fast solves fail are left out and counted."""
+    from scipy.stats import qmc
+
+    acc = spec.accuracy
+    lo, hi = spec.bounds[:, 0], spec.bounds[:, 1]
+    with warnings.catch_warnings():  # any count of points: the balance of 2^m points is not needed here
+        warnings.simplefilter("ignore", UserWarning)
+        U = qmc.Sobol(len(spec.names), scramble=True, seed=spec.seed).random(acc.lanes)
+    X = lo + U * (hi - lo)
+    Y, status = run_chunk(dataclasses.replace(spec, chunk_size=acc.lanes), X, shard=shard)
+    system = batch_system(spec.system, list(spec.paths), X)
+    Yt, code = _simulate_lanes(system, spec, TIGHT, shard)
+    ok = (status != STATUS_FAILED) & (code == RESULT_OK) & np.all(np.isfinite(Yt), axis=1)
+    outputs, within = {}, True
+    for k, name in enumerate(spec.output_names):
+        dev = float(np.max(np.abs(Y[ok, k] - Yt[ok, k]))) if ok.any() else float("nan")
+        scale = float(np.max(np.abs(Yt[ok, k]))) if ok.any() else float("nan")
+        good = bool(ok.any() and dev <= acc.rtol * scale)
+        within &= good
+        outputs[name] = {"max_abs_deviation": dev, "scale": scale, "relative": dev / scale if scale else
+                         (0.0 if dev == 0 else float("inf")), "within": good}
+    return {"stepping": spec.fast.describe(), "reference": TIGHT.describe(), "lanes": acc.lanes,
+            "lanes_compared": int(ok.sum()), "rtol": acc.rtol, "enforce": acc.enforce, "within": within,
+            "outputs": outputs}
+
+
+def _refusal(spec: SweepSpec, acc: dict) -> str:
+    name, o = max(((n, o) for n, o in acc["outputs"].items() if not o["within"]),
+                  key=lambda item: item[1]["relative"] if np.isfinite(item[1]["relative"]) else np.inf)
+    return (f"SPEC.accuracy.rtol: the fast stepping {acc['stepping']} is {o['max_abs_deviation']:.3g} from a tight "
+            f"solve in output '{name}' ({o['relative']:.2%} of its scale {o['scale']:.3g}) on "
+            f"{acc['lanes_compared']} of {acc['lanes']} points spread over the box, more than accuracy.rtol "
+            f"{acc['rtol']:g}; choose a finer \"stepping\" (or raise accuracy.rtol), or set "
+            f"\"accuracy\": {{\"enforce\": false}} to run it anyway")
+
+
+def _accuracy(spec: SweepSpec, out: Path, shard) -> dict | None:
+    """The accuracy check of ``spec`` (read back from ``out`` when this SPEC's folder has it);
+    ``ValueError`` when it is beyond tolerance and enforced. Runs before anything is written."""
+    if spec.accuracy is None:
+        return None
+    path = out / _ACCURACY
+    if path.exists() and (out / _MANIFEST).exists():
+        try:
+            if json.loads((out / _MANIFEST).read_text()).get("spec_sha256") == spec.digest():
+                return json.loads(path.read_text())
+        except (OSError, json.JSONDecodeError, AttributeError):
+            pass
+    acc = check_accuracy(spec, shard=shard)
+    if spec.accuracy.enforce and not acc["within"]:
+        raise ValueError(_refusal(spec, acc))
+    return acc
+
+
 @dataclasses.dataclass(frozen=True)
 class SweepResult:
     """What :func:`run_sweep` did. ``complete`` is False when this process stopped early
@@ -107,6 +175,7 @@ class SweepResult:
     status_counts: dict | None = None
     indices: dict | None = None
     seconds: float = 0.0
+    accuracy: dict | None = None
 
     def to_json(self) -> dict[str, Any]:
         d = {k: v for k, v in dataclasses.asdict(self).items() if k != "indices"}
@@ -182,7 +251,10 @@ def run_sweep(spec: SweepSpec, out, *, progress: bool = True, shard: bool | None
     X = spec.sampler.sample(spec.problem, spec.n, spec.seed)
     n_points = X.shape[0]
     n_chunks = -(-n_points // spec.chunk_size)
+    accuracy = _accuracy(spec, out, shard)  # may refuse the sweep: before anything is written
     _prepare(spec, out, X, n_chunks, rank, wait_s)
+    if accuracy is not None and rank == 0 and not (out / _ACCURACY).exists():
+        write_json(out / _ACCURACY, accuracy)
     _remove_stale(out, rank, world)
     mine = [i for i in range(rank, n_chunks, world) if not _chunk_path(out, i).exists()]
     if max_chunks is not None:
@@ -229,7 +301,7 @@ def run_sweep(spec: SweepSpec, out, *, progress: bool = True, shard: bool | None
                           f"{len(missing)} chunks missing; run again to resume")
         time.sleep(0.2)
         missing = [i for i in missing if not _chunk_path(out, i).exists()]
-    return _finish(spec, out, X, n_chunks, len(mine), t_start, figures)
+    return _finish(spec, out, X, n_chunks, len(mine), t_start, figures, accuracy)
 
 
 def _load_all(out: Path, n_chunks: int) -> tuple[np.ndarray, np.ndarray]:
@@ -241,7 +313,7 @@ def _load_all(out: Path, n_chunks: int) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate(Ys), np.concatenate(Ss)
 
 
-def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures) -> SweepResult:
+def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures, accuracy=None) -> SweepResult:
     Y, status = _load_all(out, n_chunks)
     names, onames = list(spec.names), list(spec.output_names)
     with atomic_path(out / "outputs.npz") as tmp:
@@ -269,6 +341,7 @@ def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures)
             "problem": spec.problem,
             "outputs": {k: (v.to_json() if v is not None else None) for k, v in indices.items()},
             "estimators": "S1 Saltelli 2010, ST Jansen, S2 Saltelli 2002; bootstrap over base points (SALib's draw)",
+            "accuracy": accuracy,
         })
         indices = {k: v for k, v in indices.items() if v is not None}
     stats = {}
@@ -278,7 +351,7 @@ def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures)
                         "p50": float(np.median(y)), "max": float(y.max())} if y.size else None)
     seconds = time.perf_counter() - t_start
     write_json(out / "summary.json", dict(n_points=int(X.shape[0]), n_chunks=n_chunks, chunks_computed_this_run=computed,
-                                          status=counts, outputs=stats, seconds_this_run=seconds,
+                                          status=counts, outputs=stats, accuracy=accuracy, seconds_this_run=seconds,
                                           status_codes={"0": "fast fixed step ok", "1": "stiff Kvaerno5 re-solve ok",
                                                         "2": "failed both; NaN outputs, left out of analyses"}))
     if figures:
@@ -288,4 +361,4 @@ def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures)
             tornado_plots(indices, out)
         if isinstance(spec.sampler, Grid):
             grid_heatmaps(spec, X, Y, status, out)
-    return SweepResult(str(out), int(X.shape[0]), n_chunks, computed, True, counts, indices, seconds)
+    return SweepResult(str(out), int(X.shape[0]), n_chunks, computed, True, counts, indices, seconds, accuracy)

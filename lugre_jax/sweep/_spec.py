@@ -16,7 +16,14 @@ Schema (``?`` = optional)::
       "stepping"?: {"solver": "bosh3"|"tsit5"|..., "dt": s}   fast fixed step (default: the
                    scenario's solver section, else Tsit5 at 2.5e-3 s),
       "fallback"?: {"rtol"?, "atol"?, "max_steps"?} | null   stiff Kvaerno5 re-solve of failed lanes,
-      "chunk_size"?: points per chunk file (default 4096), "num_resamples"?: 100, "conf_level"?: 0.95
+      "chunk_size"?: points per chunk file (default 4096), "num_resamples"?: 100, "conf_level"?: 0.95,
+      "accuracy"?: {"lanes"?: 8, "rtol"?: 0.01, "enforce"?: true} | null
+                   before the run, ``lanes`` points spread over the box (a scrambled Sobol' design)
+                   are solved by the fast stepping (with its fallback) and by a tight stiff solve;
+                   the largest deviation of each output goes into summary.json and indices.json,
+                   and a deviation above ``rtol`` times the output's largest magnitude on those
+                   lanes refuses the sweep (ValueError naming SPEC.accuracy.rtol) unless
+                   ``enforce`` is false; null: no check
     }
 """
 
@@ -40,12 +47,21 @@ from ._problem import check_problem
 from ._sample import AbstractSampler, Grid, LatinHypercube, Saltelli
 
 _TOP = {"scenario", "problem", "sampler", "n", "seed", "outputs", "second_order", "levels", "stepping",
-        "fallback", "chunk_size", "num_resamples", "conf_level"}
+        "fallback", "chunk_size", "num_resamples", "conf_level", "accuracy"}
 
 
 # The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
 # window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
 STIFF_DEFAULT = dict(rtol=1e-6, atol=1e-9, max_steps=100_000)
+
+
+@dataclasses.dataclass(frozen=True)
+class AccuracyCheck:
+    """The sweep's check of its fast stepping against a tight solve (SPEC key ``accuracy``)."""
+
+    lanes: int = 8
+    rtol: float = 0.01
+    enforce: bool = True
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,6 +85,7 @@ class SweepSpec:
     chunk_size: int
     num_resamples: int
     conf_level: float
+    accuracy: AccuracyCheck | None = AccuracyCheck()
 
     @property
     def problem(self) -> dict:
@@ -230,8 +247,19 @@ def spec_from_dict(d: Any, where: str = "SPEC", base_dir: FsPath | None = None) 
     conf = d.get("conf_level", 0.95)
     if isinstance(conf, bool) or not isinstance(conf, (int, float)) or not 0 < conf < 1:
         raise ValueError(f"{where}.conf_level: expected a number in (0, 1), got {conf!r}")
+    acc = d.get("accuracy", {})
+    if acc is None:
+        accuracy = None
+    elif isinstance(acc, dict) and not sorted(set(acc) - {"lanes", "rtol", "enforce"}):
+        enforce = acc.get("enforce", True)
+        if not isinstance(enforce, bool):
+            raise ValueError(f"{where}.accuracy.enforce: expected true or false, got {enforce!r}")
+        accuracy = AccuracyCheck(_int(acc, "lanes", f"{where}.accuracy", 8),
+                                 _pos(acc, "rtol", f"{where}.accuracy", 0.01), enforce)
+    else:
+        raise ValueError(f'{where}.accuracy: expected null or {{"lanes", "rtol", "enforce"}}')
     return SweepSpec(raw, system, opts["duration_s"], opts["sample_hz"], tuple(names), bounds, tuple(paths),
-                     sampler, n, seed, outputs, fast, stiff, chunk, nres, float(conf))
+                     sampler, n, seed, outputs, fast, stiff, chunk, nres, float(conf), accuracy)
 
 
 def load_spec(path) -> SweepSpec:

@@ -1,0 +1,81 @@
+"""The sweep checks its fast stepping against a tight solve before it runs: the deviations go into
+summary.json, indices.json and accuracy.json; a step too coarse for the SPEC's accuracy.rtol is
+refused with one line naming the key, before anything is written; "enforce": false runs anyway."""
+
+import copy
+import json
+
+import pytest
+
+from lugre_jax.sweep import run_sweep, spec_from_dict
+
+SCENARIO = {"friction": "paper", "joint": {"J": 0.128}, "controller": {"type": "velocity_pid", "kp": 8.0, "ki": 60.0},
+            "reference": {"type": "velocity_step", "velocity_deg_s": 0.02}, "duration_s": 6.0, "sample_hz": 50}
+SPEC = {"scenario": SCENARIO,
+        "problem": {"names": ["friction.segments[0].Fs", "friction.segments[0].sigma0"],
+                    "bounds": [[4.0, 9.0], [50.0, 200.0]]},
+        "sampler": "sobol", "n": 4, "seed": 3, "outputs": ["tracking_error", "dead_zone"], "fallback": None,
+        "chunk_size": 16, "num_resamples": 10,
+        # Bosh3 at 20 ms is 4e-5 of the outputs' scale from a tight solve on these lanes, Tsit5 at
+        # 2.5 ms below 1e-8: a tolerance of 1e-6 tells them apart.
+        "accuracy": {"lanes": 4, "rtol": 1e-6}}
+
+
+def _spec(stepping, **accuracy):
+    d = copy.deepcopy(SPEC)
+    d["stepping"] = stepping
+    d["accuracy"].update(accuracy)
+    return spec_from_dict(d)
+
+
+def test_too_coarse_step_refused_before_anything_is_written(tmp_path):
+    out = tmp_path / "coarse"
+    with pytest.raises(ValueError, match=r"^SPEC\.accuracy\.rtol: the fast stepping FixedStep\(Bosh3\(\), dt=0\.02\)"):
+        run_sweep(_spec({"solver": "bosh3", "dt": 0.02}), out, progress=False, figures=False)
+    assert not out.exists()
+
+
+def test_accuracy_in_summary_and_indices(tmp_path):
+    out = tmp_path / "fine"
+    res = run_sweep(_spec({"solver": "tsit5", "dt": 0.0025}), out, progress=False, figures=False)
+    assert res.complete and res.accuracy["within"] and res.accuracy["lanes_compared"] == 4
+    summary = json.loads((out / "summary.json").read_text())
+    indices = json.loads((out / "indices.json").read_text())
+    for acc in (summary["accuracy"], indices["accuracy"], json.loads((out / "accuracy.json").read_text())):
+        assert set(acc["outputs"]) == {"tracking_error", "dead_zone"}
+        for o in acc["outputs"].values():
+            assert o["max_abs_deviation"] <= 1e-6 * o["scale"] and o["within"]
+
+
+def test_not_enforced_runs_and_records(tmp_path):
+    res = run_sweep(_spec({"solver": "bosh3", "dt": 0.02}, enforce=False), tmp_path / "anyway", progress=False,
+                    figures=False)
+    assert res.complete and not res.accuracy["within"]
+    assert res.accuracy["outputs"]["tracking_error"]["relative"] > 1e-6
+
+
+def test_accuracy_key_checked():
+    d = copy.deepcopy(SPEC)
+    d["accuracy"] = {"lanes": 0}
+    with pytest.raises(ValueError, match=r"SPEC\.accuracy\.lanes"):
+        spec_from_dict(d)
+    d["accuracy"] = {"tolerance": 1}
+    with pytest.raises(ValueError, match=r"SPEC\.accuracy:"):
+        spec_from_dict(d)
+    d["accuracy"] = None
+    assert spec_from_dict(d).accuracy is None
+
+
+def test_cli_refusal_exit_2(tmp_path):
+    import subprocess
+    import sys
+
+    d = copy.deepcopy(SPEC)
+    d["stepping"] = {"solver": "bosh3", "dt": 0.02}
+    p = tmp_path / "spec.json"
+    p.write_text(json.dumps(d))
+    r = subprocess.run([sys.executable, "-m", "lugre_jax.cli", "sweep", str(p), "--out", str(tmp_path / "o"),
+                        "--no-progress", "--no-figures"], capture_output=True, text=True)
+    assert r.returncode == 2 and "accuracy.rtol" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "o").exists()
+
