@@ -37,14 +37,19 @@ def add_parser(subparsers) -> None:
     p.add_argument("--out", required=True,
                    help="output folder: new, empty, or an earlier emps result (it holds MANIFEST.json), which is "
                         "replaced only when the new run has finished")
-    p.add_argument("--models", help="comma-separated subset of models (default: all)")
+    p.add_argument("--models", help="comma-separated subset of models (default: the published structure, "
+                                    "its asymmetric variant and the best physical model; --full: all)")
+    p.add_argument("--full", action="store_true",
+                   help="the full study: every model of lugre_jax.emps.MODELS (LuGre laws included; slower)")
     p.add_argument("--train-fraction", type=float, default=0.7,
                    help="fraction of the estimation run used for fitting (default 0.7)")
     p.add_argument("--segments", type=int, default=4,
                    help="shooting segments of the benchmark-protocol fit (default 4)")
     p.add_argument("--segment-len", type=int, default=None,
                    help="samples per shooting segment (default: the segments tile the training part)")
-    p.add_argument("--max-steps", type=int, default=60, help="Levenberg-Marquardt step limit (default 60)")
+    p.add_argument("--max-steps", type=int, default=200,
+                   help="residual evaluations allowed per least-squares fit (default 200; a fit that "
+                        "reaches the limit is reported on stderr and in RESULT.json's summary)")
     add_quiet(p, "progress output")
 
 
@@ -54,11 +59,13 @@ def check(args) -> None:
 
 
 def run(args) -> int:
-    from ..emps import MODELS, identify_emps, read_emps_mat, write_emps_outputs
+    import sys
+
+    from ..emps import DEFAULT_MODELS, MODELS, identify_emps, read_emps_mat, write_emps_outputs
 
     by_label = {m.label: m for m in MODELS}
     models = tuple(by_label[k] for k in comma_choices(args.models, list(by_label), "--models")) \
-        if args.models else MODELS
+        if args.models else MODELS if args.full else DEFAULT_MODELS
     if args.segments < 1 or (args.segment_len is not None and args.segment_len < 20):
         raise ValueError(f"--segments must be >= 1 and --segment-len >= 20, got {args.segments}, "
                          f"{args.segment_len}")
@@ -76,15 +83,26 @@ def run(args) -> int:
                                n_segments=args.segments, segment_len=args.segment_len,
                                max_steps=args.max_steps, progress=not args.quiet)
         paths = [Path(args.out) / p.relative_to(staging) for p in write_emps_outputs(report, staging)]
+    # non-convergence is never silent, --quiet or not
+    for line in report.not_converged:
+        print(f"warning: {line}; RESULT.json's summary lists it", file=sys.stderr)
+    if report.pulses is not None and not report.pulses.established:
+        print(f"warning: validation pulses_N {report.pulses.reason}", file=sys.stderr)
     if not args.quiet:
-        j = report.to_json()
-        run_name = "validation" if val is not None else "held_out"
-        print(f"IDIM-LS: {j['idim']['symmetric']['params']} rel. error "
-              f"{j['idim']['symmetric']['rel_err_pct']:.3f} % (published 4.08 %)")
-        for k, m in report.models.items():
-            c, b = m.closed_loop[run_name], m.benchmark[run_name]
-            print(f"{k:18s} {run_name}: closed loop pos {c.position_pct:.4f} % vel {c.velocity_pct:.3f} % "
-                  f"force {c.force_pct:.2f} %; benchmark RMSE {b.rmse_mm:.2f} mm R2 {b.r2:.4f} "
-                  f"fit {b.fit_index:.1f} %")
+        sm = report.summary()
+        pr, cl = sm["protocol"], sm["closed_loop"]
+        i = report.idim["symmetric"]
+        print(f"IDIM-LS: rel. error {i.rel_err_pct:.3f} % (published 4.08 %)")
+        for r in [k for k in ("held_out", "validation") if k in pr]:
+            b, p = pr[r]["best_model"], pr[r]["published_idim_model"]
+            print(f"protocol (vir alone), {r}: {pr['best_model']} ({pr['best_model_n_physical_parameters']} "
+                  f"parameters) RMSE {b['rmse_mm']:.2f} mm, R2 {b['r2']:.4f}, fit {b['fit_index']:.1f} %; "
+                  f"published IDIM model {p['rmse_mm']:.2f} mm, R2 {p['r2']:.4f}, fit {p['fit_index']:.1f} %")
+        rows = [("held_out", cl["held_out"])] + list(cl.get("validation", {}).items())
+        for r, c in rows:
+            print(f"closed loop, {r}: {cl['best_model']} force {c['best_model']['force_pct']:.2f} %; "
+                  f"published IDIM model {c['published_idim_model']['force_pct']:.2f} %")
+        nc = sm["convergence"]
+        print(f"fits converged: {nc['n_fits'] - len(nc['not_converged'])} of {nc['n_fits']}")
         print(f"total {report.total_time_s:.1f} s; wrote {', '.join(str(p) for p in paths)}")
     return 0

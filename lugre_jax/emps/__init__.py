@@ -5,6 +5,7 @@ simulator) and scored by the benchmark's own protocols. SI units (m, m/s, N, kg)
 
 from ..io import EmpsRun as EmpsRun, read_emps_mat as read_emps_mat
 from ._fit import (
+    FIT_MAX_STEPS as FIT_MAX_STEPS,
     FitResult as FitResult,
     RunArrays as RunArrays,
     closed_loop_window as closed_loop_window,
@@ -22,21 +23,35 @@ from ._idim import (
     sample_period as sample_period,
 )
 from ._models import (
+    DEFAULT_MODELS as DEFAULT_MODELS,
     MODELS as MODELS,
     AbstractEmpsModel as AbstractEmpsModel,
     AsymmetricCoulombViscous as AsymmetricCoulombViscous,
     AsymmetricLuGreRipple as AsymmetricLuGreRipple,
+    AsymmetricPositionFriction as AsymmetricPositionFriction,
+    AsymmetricPositionLuGre as AsymmetricPositionLuGre,
     AsymmetricRipple as AsymmetricRipple,
     CoulombViscous as CoulombViscous,
     LuGre as LuGre,
     Stribeck as Stribeck,
 )
 from ._pipeline import (
+    PROTOCOL as PROTOCOL,
     PUBLISHED as PUBLISHED,
     EmpsReport as EmpsReport,
     ModelReport as ModelReport,
     identify_emps as identify_emps,
     write_emps_outputs as write_emps_outputs,
+)
+from ._pulses import (
+    PulseEntry as PulseEntry,
+    PulseEstimate as PulseEstimate,
+    LocationFit as LocationFit,
+    estimate_pulse_entry as estimate_pulse_entry,
+    make_pulse_run as make_pulse_run,
+    matched_force as matched_force,
+    newey_west_cov as newey_west_cov,
+    pulse_train as pulse_train,
 )
 from ._score import (
     BenchmarkScore as BenchmarkScore,
@@ -52,5 +67,6 @@ from ._simulate import (
     RungeKutta as RungeKutta,
     closed_loop as closed_loop,
     default_stepping as default_stepping,
+    fit_stepping as fit_stepping,
     open_loop as open_loop,
 )

@@ -1,4 +1,4 @@
-"""Output-error identification of EMPS models through the simulator, by Levenberg-Marquardt.
+"""Output-error identification of EMPS models through the simulator, by nonlinear least squares.
 
 Two protocols, two objectives:
 
@@ -12,8 +12,9 @@ Two protocols, two objectives:
   vmapped; residual = simulated minus measured position. The protocol scores a long free run, so
   few long windows (default 4 tiling the data) fit it better than many short ones.
 
-Parameters are mapped to their declared bounds by a logistic transform; the fit is optimistix
-``LevenbergMarquardt`` (forward-mode Jacobian: a dozen parameters against ~10^4 residuals).
+Parameters are mapped to their declared bounds by a logistic transform; the fit is scipy's
+trust-region ``least_squares`` (``trf``, Jacobian-scaled steps) on the jitted residual and its
+forward-mode Jacobian (a dozen parameters against ~10^4 residuals).
 Standard errors from the Fisher information at the optimum, ``s^2 (J^T J)^-1`` in physical units
 with ``s^2 = r^T r/(N - p)``: residuals of a simulation are autocorrelated, so these are lower
 bounds on the true uncertainty.
@@ -28,18 +29,30 @@ from typing import Callable
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
+from scipy.optimize import least_squares
 
 from ..io import EmpsRun
 from ._idim import N_BORDER, filtered_kinematics, sample_period
 from ._models import AbstractEmpsModel
-from ._simulate import AbstractStepping, closed_loop, default_stepping, open_loop
+from ._pulses import IGNORED, PulseEntry
+from ._simulate import AbstractStepping, closed_loop, fit_stepping, open_loop
+
+
+#: Termination of the fits (scipy's ``least_squares``): ``rtol`` is its ``ftol``, converged when a
+#: step lowers the sum of squares by less than 1e-5 of it, far below the sum's own sampling spread
+#: (at least ~sqrt(2/N), 1e-2 for 10^4 residuals, more as they are autocorrelated); ``atol`` its ``xtol`` and ``gtol``. Under the protocol
+#: the objective has flat valleys (docs/emps.md) where a step test on the parameters never ends.
+FIT_RTOL, FIT_ATOL = 1e-5, 1e-8
+#: Residual evaluations allowed per fit (the default runs converge well inside it; docs/emps.md).
+FIT_MAX_STEPS = 200
 
 
 @dataclasses.dataclass(frozen=True)
 class FitResult:
     """A fitted model, its standard errors (name -> value, physical units), the final objective
-    (sum of squared residuals), LM steps, wall time and whether the solver reported success."""
+    (sum of squared residuals), residual evaluations (``n_steps``), wall time, whether the solver
+    converged and why not:
+    ``status`` is ``"converged"``, ``"step limit"`` (stopped at ``max_steps``) or ``"failed"``."""
 
     model: AbstractEmpsModel
     std: dict
@@ -48,13 +61,20 @@ class FitResult:
     time_s: float
     success: bool
     protocol: str
+    status: str = "converged"
+    max_steps: int = FIT_MAX_STEPS
+
+    @property
+    def converged(self) -> bool:
+        return self.status == "converged"
 
     def to_json(self) -> dict:
         units = type(self.model).units()
         jn = type(self.model).json_names
         return {"protocol": self.protocol, "params": self.model.to_dict(), "std": dict(self.std),
                 "units": {jn.get(k, k): u for k, u in units.items()}, "loss": self.loss,
-                "lm_steps": self.n_steps, "fit_time_s": self.time_s, "success": self.success}
+                "evaluations": self.n_steps, "max_evaluations": self.max_steps, "fit_time_s": self.time_s,
+                "success": self.success, "status": self.status}
 
 
 class RunArrays:
@@ -87,59 +107,78 @@ def _to_theta(p, lo, hi):
     return np.log(u) - np.log1p(-u)
 
 
-def closed_loop_window(model, data: RunArrays, start: int, stop: int, *, use_pulses: bool = True,
+def closed_loop_window(model, data: RunArrays, start: int, stop: int, *, pulses: PulseEntry = IGNORED,
                        stepping: AbstractStepping | None = None):
     """Closed-loop simulation of samples ``start:stop`` from the measured state at ``start``:
-    ``(q, v, force, ok)`` with force = gtau*vir_sim."""
+    ``(q, v, force, ok)`` with force = gtau*vir_sim. ``pulses`` says how the run's ``pulses_N``
+    enters (default: not at all)."""
     r = data.run
     x0, hist = data.closed_initial(model, start)
-    f = r.pulses_N[start:stop] if use_pulses else np.zeros(stop - start)
+    f, u = (a[start:stop] for a in pulses.inputs(r.pulses_N, r.gtau))
     q, v, vir, ok = closed_loop(model, r.qg[start:stop], f, x0, hist, gtau=r.gtau, kp=r.kp, kv=r.kv,
-                                T=data.T, stepping=stepping)
+                                T=data.T, stepping=stepping, u_cmd=u)
     return q, v, r.gtau * vir, ok
 
 
 def _lm(residual, model0: AbstractEmpsModel, max_steps: int, rtol: float, atol: float,
-        progress: Callable[[int], None] | None):
+        progress: Callable[[int], None] | None, fixed: tuple[str, ...] = ()):
     cls = type(model0)
+    names_all = cls.names()
+    unknown = [n for n in fixed if n not in names_all]
+    if unknown:
+        raise ValueError(f"fixed: {unknown} are not parameters of {cls.__name__} ({list(names_all)})")
+    free = np.array([n not in fixed for n in names_all])
     lo, hi = (jnp.asarray(b) for b in cls.bounds())
-    theta0 = jnp.asarray(_to_theta(np.asarray(model0.vector()), np.asarray(lo), np.asarray(hi)))
+    full0 = _to_theta(np.asarray(model0.vector()), np.asarray(lo), np.asarray(hi))
+    theta0 = full0[free]
+    free_idx = jnp.asarray(np.flatnonzero(free))
 
-    def fn(theta, _):
-        r = residual(cls.from_vector(_to_params(theta, lo, hi)))
-        if progress is not None:
-            jax.debug.callback(progress, 1)
+    def full(theta):
+        return jnp.asarray(full0).at[free_idx].set(theta)
+
+    def raw(theta):
+        r = residual(cls.from_vector(_to_params(full(theta), lo, hi)))
         return jnp.where(jnp.isfinite(r), r, 1e3)  # a failed simulation: a large, not NaN, residual
 
-    solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
+    f, jac = jax.jit(raw), jax.jit(jax.jacfwd(raw))
+
+    def fun(th):
+        if progress is not None:
+            progress(1)
+        return np.asarray(f(jnp.asarray(th)))
+
     t0 = time.perf_counter()
-    sol = optx.least_squares(fn, solver, theta0, max_steps=max_steps, throw=False,
-                             options={"jac": "fwd"})
-    theta = jax.block_until_ready(sol.value)
+    sol = least_squares(fun, theta0, jac=lambda th: np.asarray(jac(jnp.asarray(th))), method="trf",
+                        x_scale="jac", ftol=rtol, xtol=atol, gtol=atol, max_nfev=max_steps)
+    theta = full(jnp.asarray(sol.x))
     elapsed = time.perf_counter() - t0
     p = _to_params(theta, lo, hi)
     model = cls.from_vector(p)
-    # Fisher information in physical parameters, at the optimum.
-    J = jax.jacfwd(lambda pp: residual(cls.from_vector(pp)))(p)
+    # Fisher information in the free physical parameters, at the optimum (fixed ones: SE 0).
+    J = jax.jacfwd(lambda pp: residual(cls.from_vector(pp)))(p)[:, free_idx]
     r = residual(model)
     n, k = J.shape
     s2 = float(r @ r) / max(n - k, 1)
+    se = np.zeros(len(names_all))
     try:
         cov = s2 * np.linalg.inv(np.asarray(J.T @ J))
-        se = np.sqrt(np.clip(np.diag(cov), 0, None))
+        se[free] = np.sqrt(np.clip(np.diag(cov), 0, None))
     except np.linalg.LinAlgError:
-        se = np.full(k, np.inf)
-    names = [cls.json_names.get(nm, nm) for nm in cls.names()]
-    ok = bool(sol.result == optx.RESULTS.successful) and bool(np.all(np.isfinite(np.asarray(r))))
-    return model, dict(zip(names, map(float, se))), float(r @ r), int(sol.stats["num_steps"]), elapsed, ok
+        se[free] = np.inf
+    names = [cls.json_names.get(nm, nm) for nm in names_all]
+    finite = bool(np.all(np.isfinite(np.asarray(r))))
+    ok = sol.status > 0 and finite
+    n_steps = int(sol.nfev)
+    status = "converged" if ok else "step limit" if (sol.status == 0 and finite) else "failed"
+    return (model, dict(zip(names, map(float, se))), float(r @ r), n_steps, elapsed, ok, status, max_steps)
 
 
 def fit_closed_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: int, *,
-                    stepping: AbstractStepping | None = None, max_steps: int = 60,
-                    rtol: float = 1e-7, atol: float = 1e-9,
+                    stepping: AbstractStepping | None = None, max_steps: int = FIT_MAX_STEPS,
+                    rtol: float = FIT_RTOL, atol: float = FIT_ATOL,
                     progress: Callable[[int], None] | None = None) -> FitResult:
     """Fit ``model0``'s parameters to samples ``start:stop`` in closed loop (module docstring)."""
-    stepping = default_stepping(model0) if stepping is None else stepping
+    stepping = fit_stepping(model0) if stepping is None else stepping
     s = slice(max(start, N_BORDER) - start, None)
     F = jnp.asarray(data.force[start:stop][s])
     Q = jnp.asarray(data.q_f[start:stop][s])
@@ -150,8 +189,8 @@ def fit_closed_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop
         q, v, f, _ = closed_loop_window(model, data, start, stop, stepping=stepping)
         return jnp.concatenate([(f[s] - F) / nF, (q[s] - Q) / nQ, (v[s] - V) / nV])
 
-    out = _lm(residual, model0, max_steps, rtol, atol, progress)
-    return FitResult(*out, protocol="closed_loop")
+    model, se, loss, n, el, ok, status, ms = _lm(residual, model0, max_steps, rtol, atol, progress)
+    return FitResult(model, se, loss, n, el, ok, "closed_loop", status, ms)
 
 
 def segment_starts(start: int, stop: int, n_segments: int, segment_len: int) -> np.ndarray:
@@ -162,14 +201,15 @@ def segment_starts(start: int, stop: int, n_segments: int, segment_len: int) -> 
     return np.unique(np.round(np.linspace(start, last, n_segments)).astype(int))
 
 
-def open_loop_segments(model, data: RunArrays, starts, segment_len: int, *, use_pulses: bool = True,
+def open_loop_segments(model, data: RunArrays, starts, segment_len: int, *, pulses: PulseEntry = IGNORED,
                        stepping: AbstractStepping | None = None):
     """Open-loop (vir-driven) simulations of ``segment_len`` samples from each start, vmapped:
-    ``(q, ok)`` of shape (n_segments, segment_len)."""
+    ``(q, ok)`` of shape (n_segments, segment_len). Pulses entering at the plant are added as a
+    force; at the command they are already in the logged ``vir``."""
     r = data.run
     idx = np.asarray(starts)[:, None] + np.arange(segment_len)[None, :]
     vir = jnp.asarray(r.vir[idx])
-    f = jnp.asarray(r.pulses_N[idx] if use_pulses else np.zeros(idx.shape))
+    f = jnp.asarray(pulses.inputs(r.pulses_N, r.gtau)[0][idx])
     v0 = jnp.asarray(data.dq_f[starts])
     x0 = jnp.stack([jnp.asarray(r.qm[starts]), v0, model.z_sliding(v0)], -1)
 
@@ -183,12 +223,14 @@ def open_loop_segments(model, data: RunArrays, starts, segment_len: int, *, use_
 def fit_open_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: int, *,
                   n_segments: int = 4, segment_len: int | None = None,
                   stepping: AbstractStepping | None = None,
-                  max_steps: int = 60, rtol: float = 1e-7, atol: float = 1e-9,
-                  progress: Callable[[int], None] | None = None) -> FitResult:
+                  max_steps: int = FIT_MAX_STEPS, rtol: float = FIT_RTOL, atol: float = FIT_ATOL,
+                  progress: Callable[[int], None] | None = None, fixed: tuple[str, ...] = ()) -> FitResult:
     """Truncated-simulation-error fit for the benchmark protocol (module docstring); residual in mm.
-    ``segment_len`` defaults to tiling ``start:stop`` with the ``n_segments`` windows."""
+    ``segment_len`` defaults to tiling ``start:stop`` with the ``n_segments`` windows; parameters
+    named in ``fixed`` keep ``model0``'s values."""
     if segment_len is None:
         segment_len = (stop - start) // n_segments
+    stepping = fit_stepping(model0) if stepping is None else stepping
     starts = segment_starts(start, stop, n_segments, segment_len)
     idx = starts[:, None] + np.arange(segment_len)[None, :]
     Y = jnp.asarray(data.run.qm[idx])
@@ -197,5 +239,5 @@ def fit_open_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: 
         q, _ = open_loop_segments(model, data, starts, segment_len, stepping=stepping)
         return 1e3 * (q - Y).ravel()
 
-    out = _lm(residual, model0, max_steps, rtol, atol, progress)
-    return FitResult(*out, protocol=f"benchmark_truncated_{len(starts)}x{segment_len}")
+    model, se, loss, n, el, ok, status, ms = _lm(residual, model0, max_steps, rtol, atol, progress, fixed)
+    return FitResult(model, se, loss, n, el, ok, f"benchmark_truncated_{len(starts)}x{segment_len}", status, ms)

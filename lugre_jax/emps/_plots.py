@@ -6,7 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 
-def plot_report(report, out: Path, run_name: str) -> list[Path]:
+def plot_report(report, out: Path, run_name: str, closed_key: str | None = None) -> list[Path]:
+    """``run_name``: the run of the protocol panel; ``closed_key``: the closed-loop score shown
+    (default ``run_name``; on a validation run with pulses, the one with the pulses as estimated)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -14,7 +16,7 @@ def plot_report(report, out: Path, run_name: str) -> list[Path]:
 
     from ..io import save_figure
 
-    c = report.models[report.best_closed_loop].closed_loop[run_name]
+    c = report.models[report.best_closed_loop].closed_loop[closed_key or run_name]
     b = report.models[report.best_benchmark].benchmark[run_name]
     paths = []
 
@@ -29,11 +31,11 @@ def plot_report(report, out: Path, run_name: str) -> list[Path]:
     ax[1].legend(loc="best")
     ax[2].plot(b.t, 1e3 * b.y, "k", lw=1, label="measured qm")
     ax[2].plot(b.t, 1e3 * b.y_sim, "b--", lw=1,
-               label=f"benchmark protocol (vir in), {report.best_benchmark}: RMSE {b.rmse_mm:.2f} mm")
+               label=f"benchmark protocol (vir alone), {report.best_benchmark}: RMSE {b.rmse_mm:.2f} mm")
     ax[2].set_ylabel("position [mm]")
     ax[2].set_xlabel("time [s]")
     ax[2].legend(loc="best")
-    fig.suptitle(f"EMPS {run_name}: closed-loop force error {c.force_pct:.2f} %")
+    fig.suptitle(f"EMPS {closed_key or run_name}: closed-loop force error {c.force_pct:.2f} %")
     paths.append(out / "measured_vs_simulated.png")
     save_figure(fig, paths[-1])
 
@@ -46,7 +48,7 @@ def plot_report(report, out: Path, run_name: str) -> list[Path]:
         ax[1, j].set_xlabel(lab)
     ax[0, 0].set_ylabel("force residual [N]")
     ax[1, 0].set_ylabel("position residual [um]")
-    fig.suptitle(f"EMPS {run_name}, closed loop, {report.best_closed_loop}: residuals (measured - simulated)")
+    fig.suptitle(f"EMPS {closed_key or run_name}, closed loop, {report.best_closed_loop}: residuals (measured - simulated)")
     paths.append(out / "residuals.png")
     save_figure(fig, paths[-1])
     return paths

@@ -20,6 +20,7 @@ import numpy as np
 from ._fit import RunArrays, closed_loop_window
 from ._idim import N_BORDER
 from ._models import AbstractEmpsModel
+from ._pulses import IGNORED, PulseEntry
 from ._simulate import open_loop
 
 N_INIT = 20  # samples the benchmark protocol lets the model use to set its state
@@ -66,10 +67,11 @@ class BenchmarkScore:
 
 
 def closed_loop_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0, stop: int | None = None,
-                      *, use_pulses: bool = True) -> ClosedLoopScore:
-    """Closed-loop simulation of ``start:stop`` from the measured state, scored as the benchmark does."""
+                      *, pulses: PulseEntry = IGNORED) -> ClosedLoopScore:
+    """Closed-loop simulation of ``start:stop`` from the measured state, scored as the benchmark does;
+    ``pulses`` says how the run's ``pulses_N`` enters (default: left out)."""
     stop = data.run.n if stop is None else stop
-    q, v, f, ok = closed_loop_window(model, data, start, stop, use_pulses=use_pulses)
+    q, v, f, ok = closed_loop_window(model, data, start, stop, pulses=pulses)
     s = slice(max(start, N_BORDER) - start, None)
     w = slice(max(start, N_BORDER), stop)
     q, v, f = np.asarray(q)[s], np.asarray(v)[s], np.asarray(f)[s]
@@ -89,14 +91,16 @@ def initial_state_from_samples(qm, T: float):
 
 
 def benchmark_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0, stop: int | None = None,
-                    *, use_pulses: bool = True) -> BenchmarkScore:
-    """The nonlinear-benchmark protocol on samples ``start:stop`` (module docstring)."""
+                    *, pulses: PulseEntry = IGNORED) -> BenchmarkScore:
+    """The nonlinear-benchmark protocol on samples ``start:stop`` (module docstring). The protocol
+    is ``u = vir`` alone (the default); a ``pulses`` entry at the plant adds them as a known force,
+    which is a variant, not the protocol."""
     r = data.run
     stop = r.n if stop is None else stop
     q0, v0 = initial_state_from_samples(r.qm[start:start + N_INIT], data.T)
     x0 = jnp.array([q0, v0, 0.0]).at[2].set(model.z_sliding(v0))
     a = start + N_INIT - 1
-    f = r.pulses_N[a:stop] if use_pulses else np.zeros(stop - a)
+    f = pulses.inputs(r.pulses_N, r.gtau)[0][a:stop]
     q, _, ok = open_loop(model, r.vir[a:stop], f, x0, gtau=r.gtau, T=data.T)
     y, yh = r.qm[a + 1:stop], np.asarray(q)[1:]
     ok = bool(ok)
