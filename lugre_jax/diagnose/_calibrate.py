@@ -54,9 +54,10 @@ class NullModel:
             e = lfilter([np.sqrt(1.0 - phi ** 2)], [1.0, -phi], e, axis=1)
         return self.torque_sd * e
 
-    def kinematic_errors(self, model, kin) -> np.ndarray:
+    def kinematic_errors(self, model, kin, centred: bool = True) -> np.ndarray:
         """Torque error each kinematic draw brings through ``model`` (draws x n): prediction on the
-        reference minus prediction on the synthetic kinematics (the sign of a residual)."""
+        reference minus prediction on the synthetic kinematics (the sign of a residual); ``centred``:
+        less their mean over the draws."""
         out = []
         for syn, ref in self.kinematic_draws:
             out.append(M.predict(model, _as_kin(kin, ref)) - M.predict(model, _as_kin(kin, syn)))
@@ -66,7 +67,7 @@ class NullModel:
         # its own re-quantisation) overstates what the recording's residual keeps, which locate
         # takes as a known shape instead
         d = np.asarray(out)
-        return d - d.mean(axis=0) if d.shape[0] > 1 else d
+        return d - d.mean(axis=0) if centred and d.shape[0] > 1 else d
 
 
 def _as_kin(kin, x):
@@ -119,6 +120,36 @@ def _jac_many(us, paths, bounds, template, kin, tau, w):
     return jax.vmap(lambda u: jax.jacfwd(M._residual_fn)(u, (paths, bounds, template, kin, tau, w, 1.0)))(us)
 
 
+def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None):
+    """The current model's Jacobian basis on the training rows (``QB``, with the ``nuisance``
+    columns: shapes a correct model's residual keeps, e.g. the kinematics' systematic error) and
+    ``n_draws`` null draws of its residual there, each with its projection on ``QB`` removed (what
+    a refit leaves): rows x draws."""
+    rng = np.random.default_rng(seed)
+    n = kin.v.shape[0]
+    JB = jacobian(current, base_specs, kin, rows)
+    if nuisance is not None:
+        JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)[rows]])
+    QB = _orth(JB)
+    eiv = null.kinematic_errors(current, kin)
+    E = null.torque_noise(rng, (n_draws, n))
+    if eiv.shape[0]:
+        E = E + eiv[np.arange(n_draws) % eiv.shape[0]]
+    Er = E[:, rows].T
+    return QB, (Er - QB @ (QB.T @ Er) if QB.shape[1] else Er)
+
+
+def max_t(obs: np.ndarray, T: np.ndarray):
+    """Raw and family-wise (max-T, each statistic over its null mean) p-values of the observed
+    statistics ``obs`` against null draws ``T`` (draws x tests); also the standardised statistics."""
+    B = T.shape[0]
+    p_raw = (1.0 + np.sum(T >= obs[None, :], axis=0)) / (B + 1.0)
+    scale = np.maximum(np.mean(T, axis=0), 1e-300)
+    std_obs, std_null = obs / scale, T / scale[None, :]
+    p_adj = (1.0 + np.sum(np.max(std_null, axis=1)[:, None] >= std_obs[None, :], axis=0)) / (B + 1.0)
+    return p_raw, np.maximum(p_adj, p_raw), std_obs
+
+
 @dataclasses.dataclass(frozen=True)
 class CandidateTest:
     """The calibrated test of one step: per candidate its statistic on the recording, its raw and
@@ -162,7 +193,7 @@ def _gains(QB, QC, R):
 
 
 def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, null: NullModel, n_draws: int,
-                    alpha: float, seed: int = 0) -> CandidateTest:
+                    alpha: float, seed: int = 0, nuisance=None) -> CandidateTest:
     """Test every candidate against the null simulated for this recording (module docstring).
 
     ``candidates``: name -> prototype instance; ``ctx_obs``: the candidates' context
@@ -171,18 +202,8 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
 
     residual = np.asarray(ctx_obs.residual, float)
     scales = ctx_obs.scales
-    rng = np.random.default_rng(seed)
     n = residual.size
-    QB = _orth(jacobian(current, base_specs, kin, rows))
-    # the null draws of the full-length residual: torque noise plus the kinematics' errors
-    eiv = null.kinematic_errors(current, kin)
-    E = null.torque_noise(rng, (n_draws, n))
-    if eiv.shape[0]:
-        E = E + eiv[np.arange(n_draws) % eiv.shape[0]]
-    E = np.where(rows[None, :], E, 0.0)
-    # what a refit of the current model leaves of each draw (its projection on B removed)
-    Er = E[:, rows].T
-    Rn = Er - QB @ (QB.T @ Er) if QB.shape[1] else Er
+    QB, Rn = null_residuals(current, base_specs, kin, rows, null, n_draws, seed, nuisance)
     r_obs = residual[rows][:, None]
 
     cache: dict = {}
@@ -240,12 +261,9 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
         return CandidateTest((), z, z, z, z, z, (), n_draws)
     obs = np.asarray(obs)
     T = np.stack(null_stats, axis=1)  # draws x candidates
-    p_raw = (1.0 + np.sum(T >= obs[None, :], axis=0)) / (n_draws + 1.0)
     # max-T over candidates, each gain in units of its own null mean (a gain is sigma^2 times a
     # chi-square of the candidate's shapes, so the ratio puts candidates of different size on one
     # scale); its resolution is 1/(n_draws + 1) whatever the number of candidates
-    scale = np.maximum(np.mean(T, axis=0), 1e-300)
-    std_obs, std_null = obs / scale, T / scale[None, :]
-    p_adj = (1.0 + np.sum(np.max(std_null, axis=1)[:, None] >= std_obs[None, :], axis=0)) / (n_draws + 1.0)
+    p_raw, p_adj, std_obs = max_t(obs, T)
     q = np.quantile(T, 1.0 - alpha, axis=0)
-    return CandidateTest(tuple(names), obs, std_obs, p_raw, np.maximum(p_adj, p_raw), q, tuple(best), n_draws)
+    return CandidateTest(tuple(names), obs, std_obs, p_raw, p_adj, q, tuple(best), n_draws)

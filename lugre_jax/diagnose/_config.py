@@ -12,11 +12,13 @@ class DiagnoseConfig:
     Error rates:
 
     - ``alpha`` (0.05): the family-wise false-alarm rate of a whole diagnosis on a recording the
-      baseline model describes. Half goes to locating residual structure (Holm over the residual
-      tests), half to naming a candidate (each step's candidates against the simulated null,
-      Westfall-Young min-p); a recording is called ``none`` only if neither fires.
+      baseline model describes, split in three equal shares: locating residual structure (Holm
+      over the residual tests), naming a candidate (each step's candidates against the simulated
+      null, max-T) and attributing what remains to a term of the library (the same null, max-T);
+      a recording is called ``none`` only if none of the three fires (Bonferroni over the three).
     - ``null_draws`` (99): simulated recordings per step of the selection; p-values are multiples of
-      1/(null_draws + 1), so 99 resolves 0.01 against the naming half of ``alpha``.
+      1/(null_draws + 1), so 99 resolves 0.01 against a third of ``alpha``.
+    - ``max_terms`` (2): terms the attribution adds at most.
     - ``kinematic_draws`` (8): draws of the kinematics' errors (each a fresh conditioning of the
       recording); the torque noise is drawn afresh for every null draw, these are cycled. Eight
       gives the systematic part of the errors (their mean, which does not average out through a
@@ -50,6 +52,7 @@ class DiagnoseConfig:
     kinematic_draws: int = 8
     seed: int = 0
     max_effects: int = 3
+    max_terms: int = 2
     top_k: int = 4
     max_steps: int = 80
     identifiability_z: float = 3.0
@@ -70,11 +73,15 @@ class DiagnoseConfig:
 
     @property
     def alpha_locate(self) -> float:
-        return 0.5 * self.alpha
+        return self.alpha / 3.0
 
     @property
     def alpha_name(self) -> float:
-        return 0.5 * self.alpha
+        return self.alpha / 3.0
+
+    @property
+    def alpha_attribute(self) -> float:
+        return self.alpha / 3.0
 
     def to_json(self) -> dict:
         return dataclasses.asdict(self)

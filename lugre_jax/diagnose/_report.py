@@ -205,6 +205,7 @@ class Diagnosis:
     seconds: float
     arrays: DiagnosisArrays | None = dataclasses.field(default=None, repr=False, compare=False)
     config: dict | None = None
+    attribution: dict | None = None
 
     @property
     def named(self) -> list[str]:
@@ -220,4 +221,5 @@ class Diagnosis:
                 "mismatch": [r.to_json() for r in self.mismatch], "n_tests": self.n_tests,
                 "missing_physics": [f.to_json() for f in self.missing_physics],
                 "improved": self.improved.to_json(), "selection_log": self.selection_log,
-                "seconds": self.seconds, **({"config": self.config} if self.config is not None else {})}
+                "seconds": self.seconds, **({"config": self.config} if self.config is not None else {}),
+                **({"attribution": self.attribution} if self.attribution is not None else {})}

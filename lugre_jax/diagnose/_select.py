@@ -27,7 +27,6 @@ import dataclasses
 import time
 
 import equinox as eqx
-import jax.numpy as jnp
 import numpy as np
 from scipy import stats
 
@@ -53,30 +52,6 @@ def _mismatch(loc: dict, at_floor: bool) -> dict:
     if at_floor:
         loc = dict(loc, located=list(loc["structural"]))
     return loc
-
-
-def _eiv_noise(rec_in, cond, model, kin, path, keep, draws: int = 3) -> tuple[float, np.ndarray]:
-    """Per-sample torque error that the kinematics' errors carry into the inverse model (errors in
-    variables), rms over the resolved samples and ``draws`` draws of
-    :func:`._condition.perturbed_kinematics`: J*a, the friction's slope, the bristles' rate
-    dependence and their path, all through the fitted model.
-
-    Also returns the per-sample mean of those errors over the draws (0 where not resolved): the
-    model is nonlinear (the friction's fall at low speed), so the errors do not average out, and
-    the residual of a correct model keeps about minus this mean wherever its regions average."""
-    from ._condition import perturbed_kinematics
-
-    def as_kin(x):
-        v, a, th = (jnp.asarray(y, float) for y in x)
-        return eqx.tree_at(lambda k: (k.v, k.a, k.theta, k.dpath), kin, (v, a, th, jnp.diff(th)))
-
-    ms, mean = [], np.zeros(keep.shape)
-    for seed in range(draws):
-        syn, ref = perturbed_kinematics(rec_in, cond, path, seed)
-        d = np.asarray(M.predict(model, as_kin(syn)) - M.predict(model, as_kin(ref)))
-        ms.append(float(np.mean(d[keep] ** 2)) if np.any(keep) else 0.0)
-        mean += np.where(keep, d, 0.0) / draws
-    return float(np.sqrt(np.mean(ms))), mean
 
 
 def _sse(r, w):
@@ -345,7 +320,10 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
 
     rec, cond, base, kin = prep.rec, prep.cond, prep.base, prep.kin
     scales = M.data_scales(rec)
-    kin_noise, eiv_bias = _eiv_noise(prep.rec_in, cond, base, kin, prep.path, split.keep)
+    null = null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws)
+    d = null.kinematic_errors(base, kin, centred=False)
+    # the systematic part (the draws' mean) is what a correct model's residual keeps in expectation
+    eiv_bias = np.where(split.keep, -d.mean(axis=0), 0.0)
     known = {"conditioning_bias_nm": rec.extra.get("conditioning_bias_nm"), "eiv_bias_nm": eiv_bias,
              "static_basis": M.static_curve_basis(base, M.baseline_specs(base, scales, fit_offset),
                                                   np.asarray(rec.velocity))}
@@ -357,13 +335,17 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
         va = float(np.var(a_m[split.rows]))
         lam = float(np.clip(1.0 - cond.accel_noise ** 2 / va, 0.2, 1.0)) if va > 0 else 1.0
     if lam < 1.0:
-        kin_noise = float(np.hypot(kin_noise, float(base.J) * cond.accel_noise * np.sqrt(1.0 / lam - 1.0)))
         known["eiv_inertial_nm"] = (1.0 / lam - 1.0) * float(base.J) * a_m
+    # the floor is the null model's per-sample residual: the torque noise and the scatter the
+    # kinematics' errors bring through the fitted model (the same draws the candidates' test uses)
+    kin_noise = 0.0
+    if d.shape[0] > 1 and np.any(split.rows):
+        dc = d - d.mean(axis=0)
+        kin_noise = float(np.sqrt(np.mean(dc[:, split.rows] ** 2) * d.shape[0] / (d.shape[0] - 1)))
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
-    null = null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws)
     return Floor(cond.torque_noise, kin_noise, floor, ratio, lam, known, null, scales)
 
 
@@ -431,7 +413,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
         ctx = _context(prep, split, floor, current, r_cur)
         test = test_candidates(current, _specs(current, scales, fit_offset, frozen), names, ctx, kin, split.rows,
-                               floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted))
+                               floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
+                               nuisance=floor.known["eiv_bias_nm"])
         order = np.argsort(-test.standardised)
         significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
         r_cur_cv = None
@@ -529,10 +512,24 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     current, r_cur, accepted, log = _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress)
     loc_cur = (_locate(prep, split, floor, current, r_cur, cfg.alpha_locate, flags,
                        _val_rmse(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
-    return _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, t_start)
+    attribution = _attribute(prep, split, floor, cfg, current, r_cur, fit_offset, frozen)
+    return _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
+                   t_start)
 
 
-def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, t_start) -> Diagnosis:
+def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
+    """What the residual left by the selection follows, from the term library (:mod:`._attribute`)."""
+    from ._attribute import attribute
+
+    ctx = _context(prep, split, floor, model, r)
+    window = prep.cond.window if prep.cond.source != "recording" else 5
+    return attribute(model, _specs(model, floor.scales, fit_offset, frozen), ctx, prep.kin, split.rows,
+                     split.val, floor.null, cfg.null_draws, cfg.alpha_attribute, window, cfg.max_terms,
+                     seed=cfg.seed + 1000, nuisance=floor.known["eiv_bias_nm"])
+
+
+def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
+            t_start) -> Diagnosis:
     rec, base, kin, val, w = prep.rec, prep.base, prep.kin, split.val, split.w
     scales = floor.scales
     ratio = floor.ratio
@@ -564,14 +561,17 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                        validation_rmse_nm=t["validation_rmse_nm"], delta_bic=t["delta_bic"],
                        p_validation=t["p_validation"], p_family=t["p_family"])
                for (name, t), c in zip(accepted, current.candidates, strict=True)]
-    if remaining:
-        missing.append(Finding(name="unexplained",
-                               explanation="Residual structure remains where listed, and no candidate in the "
-                                           "library explains it with a validated improvement.",
-                               params={"regions": [x.to_json() for x in remaining[:10]]},
+    if remaining or attribution.found:
+        words = ("Residual structure remains" + (" where listed" if remaining else "")
+                 + ", and no candidate in the library explains it with a validated improvement."
+                 + (" It follows: " + "; ".join(f"{t['signal']} ({t['reading']})" for t in attribution.terms) + "."
+                    if attribution.found else ""))
+        missing.append(Finding(name="unexplained", explanation=words,
+                               params={"regions": [x.to_json() for x in remaining[:10]],
+                                       "attribution": attribution.to_json()},
                                validation_rmse_nm=_val_rmse(r_cur, val)))
     names = [a[0] for a in accepted]
-    verdict = "+".join(names + (["unexplained"] if remaining else [])) or "none"
+    verdict = "+".join(names + (["unexplained"] if (remaining or attribution.found) else [])) or "none"
     improved = Improved(
         params={**M.model_params(current), **{c.id: c.describe(ctx_final) for c in current.candidates}},
         rmse_nm=float(np.sqrt(np.mean(r_cur[w > 0] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
@@ -580,7 +580,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     return Diagnosis(recording=recording, baseline=baseline, alpha=cfg.alpha, kappa_long_run_variance=loc0["kappa"],
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
                      improved=improved, selection_log=log, seconds=time.time() - t_start, arrays=arrays,
-                     config=cfg.to_json())
+                     config=cfg.to_json(), attribution=attribution.to_json())
 
 
 def _sg_bandwidth(W: int, fs: float, order: int = 3) -> float:
