@@ -92,7 +92,7 @@ def main(argv=None):
     ap.add_argument("--lanes", type=int, default=2000)
     ap.add_argument("--scipy-lanes", type=int, default=20)
     ap.add_argument("--tight-lanes", type=int, default=None, help="lanes scored against the tight solve")
-    ap.add_argument("--rows", default="default,adaptive,bosh3", help="batched rows to run (also: lane)")
+    ap.add_argument("--rows", default="default,lane,bosh3", help="batched rows to run (also: adaptive)")
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
     lj.configure(host_devices=2)

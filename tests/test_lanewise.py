@@ -104,9 +104,9 @@ def test_fixed_tsit5_lands_on_grid_steps():
         assert np.max(np.abs(np.asarray(sol.theta) - theta)) < 1e-4
 
 
-def test_check_stepping_reports_the_batched_default():
+def test_check_stepping_reports_per_lane():
     levels, dwell, duration = STAIRS["off_grid"]
     batch = lj.stack_systems([system(LANES[k], levels, dwell) for k in sorted(LANES)])
-    chk = lj.check_stepping(batch, duration, 100.0, batched=True, n_lanes=3)
+    chk = lj.check_stepping(batch, duration, 100.0, lj.LaneAdaptive(), batched=True, n_lanes=3)
     assert chk.stepping.startswith("LaneAdaptive(") and chk.failed_lanes == ()
     assert len(chk.theta_deg_per_lane) == 3 and chk.theta_deg == max(chk.theta_deg_per_lane) <= POS_TOL_DEG

@@ -112,9 +112,10 @@ _jit_one = array_jit(lambda args: (_solve_lanewise_one if isinstance(args[3], La
 
 
 def default_stepping(batched: bool) -> AbstractStepping:
-    """:func:`simulate`'s stepping when none is given: :class:`Adaptive` for one scenario,
-    :class:`LaneAdaptive` (each lane its own error-controlled step) for a batch."""
-    return LaneAdaptive() if batched else Adaptive()
+    """:func:`simulate`'s stepping when none is given: :class:`Adaptive`, batched or not.
+    :class:`LaneAdaptive` is as accurate per lane but not faster on XLA:CPU (docs/performance.md),
+    and works in forward mode only."""
+    return Adaptive()
 
 
 def simulate(
@@ -132,13 +133,12 @@ def simulate(
     Samples at ``t = 0, 1/sample_hz, ..., duration_s``: positions in deg, velocities in deg/s,
     torques in N*m, time in s.
 
-    ``stepping``: how the ODE is stepped. Default for one scenario :class:`Adaptive` (Tsit5, rtol
-    1e-8, atol 1e-10, stepping onto every discontinuity of the reference), agreeing with a stiff
-    scipy reference to 1e-6 deg in position and 1e-4 N*m in torque; for a batch
-    :class:`LaneAdaptive` (Tsit5, rtol 1e-6, atol 1e-9, each lane its own step, forward mode
-    only), within 2e-6 deg of a tight solve on the benchmarks of docs/performance.md. For
-    ``jax.grad`` through a batch pass :class:`Adaptive` or :class:`FixedStep`; check a fixed step
-    with :func:`check_stepping`.
+    ``stepping``: how the ODE is stepped. Default :class:`Adaptive` (Tsit5, rtol 1e-8, atol
+    1e-10, stepping onto every discontinuity of the reference): correct by default, agreeing with
+    a stiff scipy reference to 1e-6 deg in position and 1e-4 N*m in torque. For speed on batches
+    choose :class:`FixedStep` explicitly (e.g. ``FixedStep(diffrax.Bosh3(), dt=0.02)``) and check it
+    with :func:`check_stepping`; :class:`LaneAdaptive` gives each lane its own error-controlled step
+    (forward mode only).
 
     ``saveat``: what is returned per lane (:class:`SaveAt`): the whole :class:`Solution` (default),
     a function of it (``fn``) or a mean over samples accumulated in the time loop (``mean``, a
