@@ -6,7 +6,8 @@ the benchmark-protocol fit with the training part cut into K segments that cover
 samples; K = 1 is a free simulation of the whole part, where the mass drifts). Wall time includes
 compilation (every fit compiles its own loop; this is what a user waits for) and is reported with
 the process CPU time, the time of one residual + forward-mode Jacobian evaluation after
-compilation, the LM steps and the held-out benchmark RMSE of the result. The machine is shared:
+compilation, the residual evaluations of the least-squares solver, whether it converged and the
+held-out benchmark RMSE of the result. The machine is shared:
 the load average is recorded before and after each row.
 
     python benchmarks/emps_fit.py [--data ../shared/data/emps/DATA_EMPS.mat] [--out benchmarks/emps_fit.json]
@@ -34,8 +35,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default=str(HERE.parent / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"))
     ap.add_argument("--out", default=str(HERE / "emps_fit.json"))
-    ap.add_argument("--models", default="coulomb_viscous,asymmetric,lugre")
-    ap.add_argument("--segments", default="1,4,16,64,256")
+    ap.add_argument("--models", default="coulomb_viscous,asymmetric,asymmetric_position")
+    ap.add_argument("--segments", default="1,4,16,64")
     a = ap.parse_args(argv)
     if not Path(a.data).exists():
         print(f"{a.data}: EMPS data not present; nothing to do")
@@ -81,7 +82,7 @@ def main(argv=None):
             return f - data.force[:cut]
 
         rows.append(dict(model=label, protocol="closed_loop", segments=1, segment_len=cut, wall_s=wall,
-                         cpu_s=cpu, eval_with_jacobian_s=eval_time(res_cl, p0), lm_steps=fr.n_steps,
+                         cpu_s=cpu, eval_with_jacobian_s=eval_time(res_cl, p0), evaluations=fr.n_steps, status=fr.status,
                          success=fr.success, held_out_force_pct=closed_loop_score(fr.model, data, cut).force_pct,
                          load_before=l0, load_after=l1))
         print(rows[-1], flush=True)
@@ -97,7 +98,7 @@ def main(argv=None):
 
             b = benchmark_score(fr.model, data, cut)
             rows.append(dict(model=label, protocol="benchmark", segments=K, segment_len=L, wall_s=wall, cpu_s=cpu,
-                             eval_with_jacobian_s=eval_time(res_ol, p0), lm_steps=fr.n_steps, success=fr.success,
+                             eval_with_jacobian_s=eval_time(res_ol, p0), evaluations=fr.n_steps, status=fr.status, success=fr.success,
                              held_out_rmse_mm=b.rmse_mm, held_out_r2=b.r2, load_before=l0, load_after=l1))
             print(rows[-1], flush=True)
     write_json(a.out, dict(command="python benchmarks/emps_fit.py " + " ".join(argv or sys.argv[1:]),

@@ -89,8 +89,8 @@ def main(argv=None):
     nc = j["summary"]["convergence"]
     head = (f"Command: `{cmd}`; total {time.perf_counter() - t0:.0f} s wall, "
             f"{os.cpu_count()} cores, load average at the end {' '.join(load)}. "
-            f"Best closed loop (on held-out force): {j['best']['closed_loop']}; best under the protocol "
-            f"(on held-out RMSE): {j['best']['benchmark']}. Fits converged: "
+            f"Best closed loop (held-out force, one-standard-error rule): {j['best']['closed_loop']}; "
+            f"best under the protocol (held-out RMSE, same rule): {j['best']['benchmark']}. Fits converged: "
             f"{nc['n_fits'] - len(nc['not_converged'])} of {nc['n_fits']}.\n\n")
     with atomic_path(Path(a.out) / "table.md") as tmp:
         tmp.write_text(head + table(j))

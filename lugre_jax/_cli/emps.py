@@ -38,7 +38,7 @@ def add_parser(subparsers) -> None:
                    help="output folder: new, empty, or an earlier emps result (it holds MANIFEST.json), which is "
                         "replaced only when the new run has finished")
     p.add_argument("--models", help="comma-separated subset of models (default: the published structure, "
-                                    "its asymmetric variant and the best physical model; --full: all)")
+                                    "its asymmetric variant and the two position-dependent laws; --full: all)")
     p.add_argument("--full", action="store_true",
                    help="the full study: every model of lugre_jax.emps.MODELS (LuGre laws included; slower)")
     p.add_argument("--train-fraction", type=float, default=0.7,

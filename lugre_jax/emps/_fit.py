@@ -40,8 +40,9 @@ from ._simulate import AbstractStepping, closed_loop, fit_stepping, open_loop
 
 #: Termination of the fits (scipy's ``least_squares``): ``rtol`` is its ``ftol``, converged when a
 #: step lowers the sum of squares by less than 1e-5 of it, far below the sum's own sampling spread
-#: (at least ~sqrt(2/N), 1e-2 for 10^4 residuals, more as they are autocorrelated); ``atol`` its ``xtol`` and ``gtol``. Under the protocol
-#: the objective has flat valleys (docs/emps.md) where a step test on the parameters never ends.
+#: (at least ~sqrt(2/N), 1e-2 for 10^4 residuals, more as they are autocorrelated); ``atol`` its
+#: ``xtol`` and ``gtol``. Under the protocol the objective has flat valleys (docs/emps.md) where a
+#: step test on the parameters never ends.
 FIT_RTOL, FIT_ATOL = 1e-5, 1e-8
 #: Residual evaluations allowed per fit (the default runs converge well inside it; docs/emps.md).
 FIT_MAX_STEPS = 200

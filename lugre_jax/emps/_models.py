@@ -334,6 +334,6 @@ MODELS: tuple[type[AbstractEmpsModel], ...] = (
     AsymmetricPositionFriction, AsymmetricPositionLuGre)
 
 #: What ``lugre-jax emps`` fits by default: the published structure, its asymmetric variant and the
-#: best physical model (docs/emps.md); ``--full`` fits :data:`MODELS`.
+#: position-dependent laws (static and with bristles; docs/emps.md); ``--full`` fits :data:`MODELS`.
 DEFAULT_MODELS: tuple[type[AbstractEmpsModel], ...] = (
-    CoulombViscous, AsymmetricCoulombViscous, AsymmetricPositionFriction)
+    CoulombViscous, AsymmetricCoulombViscous, AsymmetricPositionFriction, AsymmetricPositionLuGre)

@@ -3,7 +3,9 @@
 Split: every model is fitted on the first ``train_fraction`` (default 70 %) of the estimation run;
 scores are reported on the whole estimation run (which contains the training part, as the
 published closed-loop errors do), on the held-out last 30 %, and on the validation run when one is
-given. The best model of each protocol is chosen on the held-out part.
+given. The best model of each protocol is chosen on the held-out part by the one-standard-error
+rule (:func:`one_se_choice`): the fewest parameters among the models within one standard error of
+the lowest held-out error.
 
 The headline is the benchmark's protocol: input ``vir`` alone, output ``qm``, 20 samples to set the
 state, RMSE (with R² and fit index) over the rest. Everything else on a validation run is a
@@ -21,11 +23,13 @@ import time
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
+
 from ..io import EmpsRun
 from ._fit import FIT_MAX_STEPS, FitResult, RunArrays, fit_closed_loop, fit_open_loop
 from ._idim import IdimResult, idim_ls
 from ._models import DEFAULT_MODELS, MODELS, AbstractEmpsModel, AsymmetricCoulombViscous, CoulombViscous
-from ._pulses import IGNORED, PLANT, UNIT_GAIN, PulseEstimate, estimate_pulse_entry
+from ._pulses import PLANT, UNIT_GAIN, PulseEstimate, estimate_pulse_entry, newey_west_cov
 from ._score import N_INIT, BenchmarkScore, ClosedLoopScore, benchmark_score, closed_loop_score
 
 #: Published anchors (Janot, Gautier, Brunot 2019; Forgione & Piga 2021).
@@ -118,12 +122,17 @@ class EmpsReport:
         pub = self.reference["symmetric"]
         runs = ["held_out"] + (["validation"] if self.validation_source else [])
         protocol = {"definition": PROTOCOL, "best_model": self.best_benchmark,
-                    "best_model_n_physical_parameters": best_b.n_params, "chosen_on": "held_out"}
+                    "best_model_n_physical_parameters": best_b.n_params,
+                    "chosen_on": "held_out, one-standard-error rule"}
+        protocol["held_out_rmse_mm_and_se"] = {
+            k: [1e3 * x for x in rms_and_se(m.benchmark["held_out"].y - m.benchmark["held_out"].y_sim)]
+            for k, m in self.models.items()}
         for r in runs:
             protocol[r] = {"best_model": _bjson(best_b.benchmark.get(r)),
                            "published_idim_model": _bjson(pub["benchmark"].get(r))}
         closed = {"best_model": self.best_closed_loop,
-                  "best_model_n_physical_parameters": best_c.n_params, "chosen_on": "held_out",
+                  "best_model_n_physical_parameters": best_c.n_params,
+                  "chosen_on": "held_out, one-standard-error rule",
                   "held_out": {"best_model": _cjson(best_c.closed_loop["held_out"]),
                                "published_idim_model": _cjson(pub["closed_loop"]["held_out"])},
                   "published_anchor_estimation_force_pct": PUBLISHED["closed_loop_estimation"]["force_pct"]}
@@ -179,7 +188,7 @@ class EmpsReport:
             "published_model_simulated": ref,
             "models": {k: v.to_json() for k, v in self.models.items()},
             "best": {"closed_loop": self.best_closed_loop, "benchmark": self.best_benchmark,
-                     "chosen_on": "held_out"},
+                     "chosen_on": "held_out, one-standard-error rule"},
             "published": PUBLISHED,
             "total_time_s": self.total_time_s,
         }
@@ -207,6 +216,33 @@ def _bench(model, est: RunArrays, cut: int, val: RunArrays | None, pulses: Pulse
     return b
 
 
+def rms_and_se(err) -> tuple[float, float]:
+    """Root mean square of ``err`` and its standard error: the mean of ``err**2`` with a
+    Newey-West error (Andrews' bandwidth; simulation errors are strongly autocorrelated), carried
+    to the root by the delta method."""
+    e2 = np.asarray(err, np.float64) ** 2
+    mse = float(e2.mean())
+    var = float(newey_west_cov(np.ones((e2.shape[0], 1)), e2 - mse)[0, 0])
+    rms = float(np.sqrt(mse))
+    return rms, (float(np.sqrt(max(var, 0.0)) / (2 * rms)) if rms > 0 else 0.0)
+
+
+def one_se_choice(candidates: dict) -> str:
+    """The one-standard-error rule (Hastie, Tibshirani & Friedman, Elements of Statistical Learning,
+    7.10): among models whose held-out RMS error is within one standard error of the lowest, the
+    one with the fewest parameters (then the lowest error). ``candidates``: name -> (held-out error
+    series, parameter count). A failed simulation (non-finite errors) is never chosen if another
+    is finite."""
+    stats = {}
+    for k, (e, n) in candidates.items():
+        e = np.asarray(e, np.float64)
+        stats[k] = (rms_and_se(e) if np.all(np.isfinite(e)) else (np.inf, 0.0)) + (n,)
+    best = min(stats, key=lambda k: stats[k][0])
+    limit = stats[best][0] + stats[best][1]
+    near = [k for k in stats if stats[k][0] <= limit]
+    return min(near, key=lambda k: (stats[k][2], stats[k][0]))
+
+
 def _clock(s: float) -> str:
     s = int(round(s))
     return f"{s // 60}:{s % 60:02d}"
@@ -221,9 +257,10 @@ def identify_emps(run: EmpsRun, validation: EmpsRun | None = None, *,
     to stderr), each with the step count, the total and an ETA.
 
     Each model is fitted in closed loop from its reference values, then under the protocol from
-    the closed-loop estimate with the mass kept at its closed-loop value. The protocol fit cuts the training part into ``n_segments`` shooting windows of
-    ``segment_len`` samples (default: the windows tile the training part); few long windows suit a
-    protocol that scores a long free simulation (docs/emps.md, Speed).
+    the closed-loop estimate with the mass kept at its closed-loop value. The protocol fit cuts
+    the training part into ``n_segments`` shooting windows of ``segment_len`` samples (default:
+    the windows tile the training part); few long windows suit a protocol that scores a long free
+    simulation (docs/emps.md).
     """
     if not 0.2 <= train_fraction <= 0.95:
         raise ValueError(f"train_fraction must be in [0.2, 0.95], got {train_fraction}")
@@ -279,8 +316,10 @@ def identify_emps(run: EmpsRun, validation: EmpsRun | None = None, *,
                     f"{fr.status}; elapsed {_clock(time.perf_counter() - t_start)}, ETA {_clock(eta)}")
         reports[cls.label] = ModelReport(cls.label, fits[0], fits[1], _scores(fits[0].model, est, cut, val, pulses),
                                          _bench(fits[1].model, est, cut, val, pulses))
-    best_cl = min(reports, key=lambda k: reports[k].closed_loop["held_out"].force_pct)
-    best_b = min(reports, key=lambda k: reports[k].benchmark["held_out"].rmse_mm)
+    best_cl = one_se_choice({k: (m.closed_loop["held_out"].force - m.closed_loop["held_out"].force_sim,
+                                 m.n_params) for k, m in reports.items()})
+    best_b = one_se_choice({k: (m.benchmark["held_out"].y - m.benchmark["held_out"].y_sim, m.n_params)
+                            for k, m in reports.items()})
     return EmpsReport(run.source, validation.source if validation is not None else None, cut, run.n,
                       idim, reference, reports, best_cl, best_b, time.perf_counter() - t_start,
                       bool(validation is not None and validation.has_pulses), pulses)

@@ -15,9 +15,10 @@ gain, sign or delay. Two places are tested, each by a linear regression on the c
   same force gain ``g``.
 
 At each location the delay is the one of least squared residual. The gain's standard error is
-Newey-West (Bartlett kernel): the residuals of both regressions are autocorrelated, so the ordinary
-least-squares error would be too small; the bandwidth is Andrews' (1991) AR(1) plug-in. A location is *established* when its gain differs from 0
-by more than the two-sided Bonferroni quantile for all the delays and both locations tried
+Newey-West (Bartlett kernel, bandwidth by Andrews' 1991 AR(1) plug-in): the residuals of both
+regressions are autocorrelated, so the ordinary least-squares error would be too small. A
+location is *established* when its gain differs from 0 by more than the two-sided Bonferroni
+quantile for all the delays and both locations tried
 (family-wise error 5 %); the reported interval is the 95 % interval at the chosen delay. The delay
 interval is the set of delays whose profile likelihood ratio ``n_eff*log(SSE(d)/SSE_min)`` stays
 below the chi-square(1) 95 % quantile, with ``n_eff = n * (OLS variance / Newey-West variance)`` of
