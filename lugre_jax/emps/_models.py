@@ -257,12 +257,10 @@ class AsymmetricPositionFriction(AbstractEmpsModel):
     ``F = [v > 0]*(Fv+*v + Fc+ + c(q)) - [v < 0]*(Fc- + c(q) - Fv-*v) + k*(q - Q_MID)``, with the
     change of the Coulomb level along the travel ``c(q) = c1*x + c2*x^2`` (both directions).
 
-    Why: the inverse model's residual of the benchmark structure, binned by position, has a
-    Coulomb level about 1 N higher at both ends of the travel than in the middle and a direction-
-    independent part that grows along it (``lugre-jax emps`` RESULT.json and docs/emps.md); a free
-    simulation integrates such a bias twice, so the protocol's score is sensitive to it. Eight
-    parameters; ``c2`` is the bowl of the Coulomb level, ``c1`` its tilt, ``k`` the force along
-    the travel (a cable carrier or a tilt of the axis would give one)."""
+    Why (docs/emps.md, the physical model): the benchmark structure's friction level is not the
+    same along the travel, and a free simulation integrates such a bias twice, so the protocol's
+    score is sensitive to it. Eight parameters: ``c2`` is the bowl of the Coulomb level, ``c1``
+    its tilt, ``k`` a force along the travel."""
 
     label: ClassVar[str] = "asymmetric_position"
     json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}

@@ -200,7 +200,7 @@ def matched_force(f: np.ndarray, T: float = 1e-3) -> np.ndarray:
     into ``ddq``: the same zero-phase Butterworth, then the kernel ``[1, 3, 3, 1]/8`` over samples
     ``k-2..k+1`` -- the two central differences of a position driven by a zero-order-held force
     average it with exactly these weights. Without it the pulses' edges, which ``ddq`` smooths and
-    the raw column does not, bias the gain by about 1 %."""
+    the raw column does not, bias the gain."""
     from scipy import signal
 
     from ._idim import filtfilt_matlab

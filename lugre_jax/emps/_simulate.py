@@ -127,10 +127,10 @@ def default_stepping(model: AbstractEmpsModel) -> AbstractStepping:
 
 
 def fit_stepping(model: AbstractEmpsModel) -> AbstractStepping:
-    """The stepping of the output-error fits: for static laws Tsit5 with 2 substeps, which stays
-    within 3 um of the 10-substep default over a 24.8-s free simulation of the estimation run
-    (tests/test_emps.py), three orders below the millimetre errors being fitted, at a fifth of the
-    cost; laws with state keep their default. Scores use :func:`default_stepping`."""
+    """The stepping of the output-error fits: for static laws Tsit5 with 2 substeps, whose error
+    against the 10-substep default over a free simulation of the whole estimation run is bounded
+    in tests/test_emps.py far below the millimetre errors being fitted, at a fraction of the cost;
+    laws with state keep their default. Scores use :func:`default_stepping`."""
     return ExponentialMidpoint() if model.has_state else RungeKutta(substeps=2)
 
 
