@@ -73,13 +73,13 @@ def test_null_recording_gives_none(seed):
 # REPORT.json as `lugre-jax diagnose` wrote it while diagnose returned a dict; Diagnosis.to_json()
 # keeps it: these keys in this order, a region being a located test cut to REGION_KEYS.
 REPORT_KEYS = ["recording", "baseline", "alpha", "kappa_long_run_variance", "verdict", "mismatch", "n_tests",
-               "missing_physics", "improved", "selection_log", "seconds"]
+               "missing_physics", "improved", "selection_log", "seconds", "config", "attribution"]
 RECORDING_KEYS = ["source", "n_samples", "units", "duration", "sample_rate_hz", "validation"]
 BASELINE_KEYS = ["params", "rmse_nm", "validation_rmse_nm", "fit", "noise_floor_nm", "torque_noise_nm",
                  "kinematic_noise_nm", "floor_ratio", "at_floor", "shortcoming", "conditioning",
                  "unresolved_transient_fraction"]
 REGION_KEYS = ("test", "region", "statistic", "p_value", "p_holm", "mean_residual", "ci95", "df", "n")
-FINDING_KEYS = ["name", "explanation", "params", "validation_rmse_nm", "delta_bic", "p_validation"]
+FINDING_KEYS = ["name", "explanation", "params", "validation_rmse_nm", "delta_bic", "p_validation", "p_family"]
 IMPROVED_KEYS = ["params", "rmse_nm", "validation_rmse_nm"]
 
 
@@ -122,7 +122,12 @@ def test_diagnosis_to_json_is_the_report(tmp_path):
     assert list(js["missing_physics"][0]) == FINDING_KEYS
     assert list(js["missing_physics"][1]) == FINDING_KEYS[:4]  # no fit, no evidence
     assert js["missing_physics"][0]["delta_bic"] == accepted.delta_bic < 0
-    assert js["missing_physics"][1]["params"] == {"regions": [cut(x) for x in rep.arrays.loc1["located"]][:10]}
+    assert js["missing_physics"][1]["params"]["regions"] == [cut(x) for x in rep.arrays.loc1["located"]][:10]
+    assert js["missing_physics"][1]["params"]["attribution"] == js["attribution"]
+    assert js["config"] == rep.config and js["config"]["alpha"] == rep.alpha
+    # a named finding lowers the held-out error and beat its simulated null family-wise
+    assert accepted.validation_rmse_nm < rep.baseline.validation_rmse_nm
+    assert accepted.p_family < rep.alpha / 3
     assert "arrays" not in js
 
     path = tmp_path / "REPORT.json"

@@ -5,7 +5,13 @@ Thin wrapper around :func:`lugre_jax.diagnose.diagnose`: load, diagnose, write t
 
 from __future__ import annotations
 
-from ._args import HelpFormatter, comma_choices
+from ._args import HelpFormatter, add_quiet, check_input, comma_choices
+from ._outputs import FOLDER, check_outputs
+
+# a diagnosis holds ~30 float64 arrays of the recording's length per null draw batch and refits
+# a model of ~10 parameters many times: beyond this many samples it is refused up front with the
+# cost and how to split it (docs/performance.md has the measured time per sample)
+MAX_SAMPLES = 200_000
 
 
 def add_parser(subparsers) -> None:
@@ -18,9 +24,14 @@ def add_parser(subparsers) -> None:
             "structure with a Holm-controlled false-alarm rate, and name missing physics from a "
             "library (position_ripple, gravity, asymmetry, thermal_drift, stribeck_shape, backlash, "
             "compliance, load_dependent). REC is a CSV in paper units (time_s, position_deg, "
-            "velocity_deg_s, torque_nm, ...; one of position_deg and velocity_deg_s may be absent) or the EMPS benchmark DATA_EMPS.mat (SI units: m, N)."),
+            "velocity_deg_s, torque_nm, ...; one of position_deg and velocity_deg_s may be absent), one EPOS "
+            "Studio export (velocity and torque), or the EMPS benchmark DATA_EMPS.mat (SI units: m, N). A "
+            "candidate is named only when its gain beats a null distribution simulated for the recording "
+            "(family-wise, a third of --alpha) and it lowers the held-out error; what no candidate explains "
+            "is attributed to a term of a stated library (torque rate, v|v|, transmitted torque, jerk, "
+            "time, position, a time line)."),
     )
-    p.add_argument("recording", help="recording CSV, or DATA_EMPS.mat")
+    p.add_argument("recording", help="recording CSV, one EPOS Studio export, or DATA_EMPS.mat")
     p.add_argument("--params", metavar="P.json",
                    help="baseline parameters JSON instead of fitting: an object with J, Fc, Fs, vs, sigma0, sigma1, "
                         "sigma2 (recording units; friction_model LuGre, Stribeck or CoulombViscous), or a previous "
@@ -37,15 +48,56 @@ def add_parser(subparsers) -> None:
                    help="length of the validation/cluster time blocks in seconds "
                         "(default ~1 s, at least 25 blocks; every 5th block is held out; a candidate is "
                         "cross-validated over the phases)")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument("--decimate", type=int, default=1, metavar="K",
+                   help=f"keep every K-th sample (a recording over {MAX_SAMPLES:,} samples must be cut down)")
+    p.add_argument("--segment", metavar="T0:T1", help="diagnose only the samples with T0 <= time < T1 (s)")
+    add_quiet(p, "progress bars")
+
+
+def check(args) -> None:
+    """Before the package loads: the flags' values, the input and every output path."""
+    import math
+
+    if args.block_s is not None and not (math.isfinite(args.block_s) and args.block_s > 0):
+        raise ValueError(f"--block-s must be a positive number of seconds, got {args.block_s}")
+    if not 0 < args.alpha < 1:
+        raise ValueError(f"--alpha must be in (0, 1), got {args.alpha}")
+    if args.decimate < 1:
+        raise ValueError(f"--decimate must be a positive integer, got {args.decimate}")
+    _segment(args.segment)
+    check_input(args.recording, "a recording CSV, an EPOS Studio export or DATA_EMPS.mat")
+    check_outputs(args, out=".json", plots=FOLDER)
+    if args.segment is None and not str(args.recording).lower().endswith(".mat"):
+        # a CSV's size is known from its line count before anything is parsed
+        with open(args.recording, "rb") as fh:
+            rows = sum(chunk.count(b"\n") for chunk in iter(lambda: fh.read(1 << 20), b"")) - 1
+        _size_guard(args, -(-rows // args.decimate))
+
+
+def _size_guard(args, n: int) -> None:
+    if n > MAX_SAMPLES:
+        k = -(-n // MAX_SAMPLES) * args.decimate
+        raise ValueError(f"{args.recording}: {n:,} samples; a diagnosis takes at most {MAX_SAMPLES:,} "
+                         f"(about {n * 99 * 8 * 4 / 2**30:.1f} GiB of null draws alone, and time in "
+                         f"proportion); use --decimate {k} or --segment T0:T1")
+
+
+def _segment(text):
+    if text is None:
+        return None
+    try:
+        a, b = (float(x) for x in text.split(":"))
+    except ValueError:
+        raise ValueError(f"--segment {text!r}: expected T0:T1 in seconds, e.g. 10:70") from None
+    if not a < b:
+        raise ValueError(f"--segment {text!r}: expected T0 < T1")
+    return a, b
 
 
 def _load(path: str):
-    from ..io import load_emps, load_recording
+    from ..io import read_recording
 
-    if path.lower().endswith(".mat"):
-        return load_emps(path)
-    return load_recording(path)
+    return read_recording(path)
 
 
 def run(args) -> int:
@@ -56,17 +108,14 @@ def run(args) -> int:
     from ..io import load_params_json, write_json
     from ._outputs import Outputs
 
-    if args.block_s is not None and not (math.isfinite(args.block_s) and args.block_s > 0):
-        raise ValueError(f"--block-s must be a positive number of seconds, got {args.block_s}")
-    if not 0 < args.alpha < 1:
-        raise ValueError(f"--alpha must be in (0, 1), got {args.alpha}")
+    check(args)
     cands = comma_choices(args.candidates, CANDIDATES, "--candidates") if args.candidates else None
     # Inputs and every output path are checked before the fit (tens of seconds) starts.
     with Outputs(meta={"command": "diagnose", "recording": str(args.recording)}) as outs:
         out_path = outs.file(args.out, "--out", ".json")
         plots_dir = outs.folder(args.plots, "--plots") if args.plots else None
         params = None if args.params is None else load_params_json(args.params)
-        rec = _load(args.recording)
+        rec = _cut(_load(args.recording), args)
         if params is not None:
             _check_params_against(params, rec, args.params)
         rep = diagnose(rec, params=params, friction=args.friction, fit_offset=args.offset,
@@ -83,6 +132,23 @@ def run(args) -> int:
           f"-> {rep.improved.validation_rmse_nm:.5g} {rec.units['torque']}; "
           f"missing physics: {rep.named or 'none'}; report: {args.out}")
     return 0
+
+
+def _cut(rec, args):
+    """The segment and decimation asked for, then the size guard."""
+    import numpy as np
+
+    seg = _segment(args.segment)
+    if seg is not None:
+        keep = (rec.time >= seg[0]) & (rec.time < seg[1])
+        if keep.sum() < 100:
+            raise ValueError(f"--segment {args.segment}: {int(keep.sum())} samples of {args.recording} in it; "
+                             "expected at least 100")
+        rec = rec.subset(np.flatnonzero(keep))
+    if args.decimate > 1:
+        rec = rec.subset(slice(None, None, args.decimate))
+    _size_guard(args, rec.n)
+    return rec
 
 
 def _check_params_against(params: dict, rec, source) -> None:

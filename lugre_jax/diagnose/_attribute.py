@@ -7,7 +7,7 @@ Groups are added greedily, as the candidates are: each step tests every group's 
 same simulated null as the candidates (:mod:`._calibrate`; the time line's frequency search
 repeated on every draw), family-wise by max-T at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
-held-out RMSE. The terms are linear in their coefficients, so the first-order gain is the exact
+held-out RMSE significantly (the same one-sided held-out test as the candidates'). The terms are linear in their coefficients, so the first-order gain is the exact
 least-squares gain.
 """
 
@@ -119,7 +119,7 @@ class Attribution:
                 "validation_rmse_after_nm": self.validation_rmse_after_nm, "tests": list(self.tests)}
 
 
-def attribute(model, specs, ctx, kin, rows, val, null, n_draws: int, alpha: float, window: int,
+def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring)."""
     r = np.asarray(ctx.residual, float)
@@ -135,6 +135,7 @@ def attribute(model, specs, ctx, kin, rows, val, null, n_draws: int, alpha: floa
     terms = []
     before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
     after = before
+    r_fit = r
     for _ in range(max_terms):
         Q = C._orth(np.column_stack([QB] + [X[rows] for _, X in chosen])) if chosen else QB
         Rq = Rn - Q @ (Q.T @ Rn) if chosen else Rn
@@ -171,14 +172,19 @@ def attribute(model, specs, ctx, kin, rows, val, null, n_draws: int, alpha: floa
         beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
         pred = Xall @ beta
         new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
-        if not new < after:
-            tests[-1].append({"rejected": g.name, "because": f"held-out RMSE {after:.4g} -> {new:.4g}"})
+        from ._select import _paired_block_test
+
+        p_held = _paired_block_test(r_fit, r - pred, blocks, val)
+        if not (new < after and p_held < alpha):
+            tests[-1].append({"rejected": g.name,
+                              "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g}"})
             break
+        r_fit = r - pred
         chosen.append((g, X))
         nb = JB.shape[1]
         coef = beta[nb + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
                       "units": list(g.units), "reading": g.reading, "p_family": float(p_adj[k]),
-                      "gain_nm2": float(obs[k]), "validation_rmse_nm": new})
+                      "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": float(p_held)})
         after = new
     return Attribution(tuple(terms), before, after, tuple(tests))

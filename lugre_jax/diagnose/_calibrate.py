@@ -98,19 +98,25 @@ def jacobian(model, specs, kin, rows) -> np.ndarray:
     space = M.FitSpace(specs)
     model = M.clip_into(space, model)
     n = kin.v.shape[0]
-    Jm = np.asarray(M._jac_u(space.to_u(model), space.paths, space.bounds, model, kin, jnp.zeros(n),
-                             jnp.ones(n), jnp.asarray(1.0)))
-    return Jm[rows]
+    Jm = np.asarray(M._jac_u(space.to_u(model), space.paths, space.bounds, model, M.pad_kinematics(kin),
+                             M.pad(jnp.zeros(n)), M.pad(jnp.ones(n)), jnp.asarray(1.0)))
+    return Jm[:n][rows]
+
+
+JAC_BATCH = 32  # Jacobians per vectorised call: bounded memory, one compilation
 
 
 def jacobians(trials: list, specs, kin, rows) -> np.ndarray:
     """:func:`jacobian` of several models that differ only in the parameters of ``specs``, in one
     vectorised call (trials x n_rows x k)."""
     space = M.FitSpace(specs)
-    us = jnp.stack([space.to_u(t) for t in trials])
+    us = [space.to_u(t) for t in trials]
+    m = len(us)
+    us = jnp.stack(us + [us[-1]] * (JAC_BATCH - m % JAC_BATCH if m % JAC_BATCH else 0))  # one compiled batch size
     n = kin.v.shape[0]
-    J = np.asarray(_jac_many(us, space.paths, space.bounds, trials[0], kin, jnp.zeros(n), jnp.ones(n)))
-    return J[:, rows, :]
+    J = np.asarray(_jac_many(us, space.paths, space.bounds, trials[0], M.pad_kinematics(kin), M.pad(jnp.zeros(n)),
+                             M.pad(jnp.ones(n))))
+    return J[:m, :n][:, rows, :]
 
 
 @eqx.filter_jit
@@ -244,9 +250,9 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
             if todo:
                 trials = [_trial(current, g) for g in todo.values()]
                 specs = M.candidate_specs(trials[0], len(trials[0].candidates) - 1, scales)
-                for i0 in range(0, len(trials), 32):  # bounded memory: 32 Jacobians at a time
-                    Js = jacobians(trials[i0:i0 + 32], specs, kin, rows)
-                    for key, Jc in zip(list(todo)[i0:i0 + 32], Js):
+                for i0 in range(0, len(trials), JAC_BATCH):
+                    Js = jacobians(trials[i0:i0 + JAC_BATCH], specs, kin, rows)
+                    for key, Jc in zip(list(todo)[i0:i0 + JAC_BATCH], Js):
                         cache[key] = Jc
             g_null = np.array([max((float(_gains(QB, cache[_key(g)], Rn[:, b:b + 1])[0]) for g in gs), default=0.0)
                                for b, gs in enumerate(guesses_b)])

@@ -379,18 +379,57 @@ def _lm(u0, paths, bounds, template, kin, tau, w, scale, max_steps):
     return sol.value, sol.result, sol.stats["num_steps"]
 
 
+# Compiled functions see the kinematics padded to a multiple of BUCKET samples, so recordings of
+# different lengths share their compilations (compiling the fits takes longer than running them).
+# The padding holds the joint still at its last position and time (zero velocity, acceleration and
+# path; intervals of the mean length), and every model is causal along the samples, so the samples
+# before it are unchanged; its samples carry zero weight and are cut from every output.
+BUCKET = 8192
+
+
+def bucket(n: int) -> int:
+    return -(-int(n) // BUCKET) * BUCKET
+
+
+def pad_kinematics(kin: Kinematics) -> Kinematics:
+    n = kin.v.shape[0]
+    p = bucket(n) - n
+    if p == 0:
+        return kin
+
+    def ext(x, value):
+        return jnp.concatenate([x, jnp.full((p,), value, dtype=x.dtype)])
+
+    return Kinematics(ext(kin.t, kin.t[-1]), ext(kin.theta, kin.theta[-1]), ext(kin.v, 0.0), ext(kin.a, 0.0),
+                      ext(kin.h, jnp.mean(kin.h)), ext(kin.dpath, 0.0), kin.z0_sign)
+
+
+def pad(x, n: int | None = None):
+    """A per-sample array padded with zeros to its bucket (or to ``n``)."""
+    x = jnp.asarray(x)
+    m = bucket(x.shape[0]) if n is None else n
+    return jnp.concatenate([x, jnp.zeros((m - x.shape[0],) + x.shape[1:], dtype=x.dtype)]) if m > x.shape[0] else x
+
+
 @eqx.filter_jit
 def _predict(model, kin):
     return model.predict(kin)
 
 
 @eqx.filter_jit
-def _parts(model, kin):
+def _parts_padded(model, kin):
     return model.parts(kin)
 
 
+def _parts(model, kin):
+    """(inertial torque, friction torque, total predicted torque) of ``model`` along ``kin``."""
+    n = kin.v.shape[0]
+    return tuple(x[:n] for x in _parts_padded(model, pad_kinematics(kin)))
+
+
 def predict(model: JointModel, kin: Kinematics) -> Float[np.ndarray, " n"]:
-    return np.asarray(_predict(model, kin))
+    n = kin.v.shape[0]
+    return np.asarray(_predict(model, pad_kinematics(kin)))[:n]
 
 
 def static_curve_basis(model: JointModel, specs: list[Spec], v) -> np.ndarray:
@@ -420,7 +459,8 @@ def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_s
     w = jnp.asarray(weights, dtype=tau.dtype)
     scale = jnp.asarray(float(np.std(np.asarray(tau)[np.asarray(weights) > 0])) or 1.0)
     u0 = space.to_u(model)
-    u, result, steps = _lm(u0, space.paths, space.bounds, model, kin, tau, w, scale, max_steps)
+    u, result, steps = _lm(u0, space.paths, space.bounds, model, pad_kinematics(kin), pad(tau), pad(w), scale,
+                           max_steps)
     fitted = space.to_model(model, u)
     ok = bool(np.all(np.isfinite(np.asarray(u))))
     if not ok:
@@ -443,7 +483,8 @@ def standard_errors(model: JointModel, space: FitSpace, kin: Kinematics, tau, we
     tau = jnp.asarray(tau)
     w = jnp.asarray(weights, dtype=tau.dtype)
     u = space.to_u(model)
-    Jm = np.asarray(_jac_u(u, space.paths, space.bounds, model, kin, tau, w, jnp.asarray(1.0)))
+    Jm = np.asarray(_jac_u(u, space.paths, space.bounds, model, pad_kinematics(kin), pad(tau), pad(w),
+                           jnp.asarray(1.0)))[: tau.shape[0]]
     r = np.asarray(w) * (np.asarray(tau) - np.asarray(predict(model, kin)))
     n = float(np.sum(np.asarray(weights) > 0))
     s2 = float(np.sum(r ** 2)) / max(n - len(space.specs), 1.0) * kappa

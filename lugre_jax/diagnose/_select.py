@@ -343,6 +343,18 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
         dc = d - d.mean(axis=0)
         kin_noise = float(np.sqrt(np.mean(dc[:, split.rows] ** 2) * d.shape[0] / (d.shape[0] - 1)))
     floor = float(np.hypot(cond.torque_noise, kin_noise))
+    # the shapes a correct model's residual keeps in expectation, which no test may claim: the
+    # kinematics' systematic error (above) and the smoothing's bias, J times the change of the
+    # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by)
+    nuisance = [eiv_bias]
+    if cond.source != "recording" and 2 * cond.window - 1 < rec.n // 2:
+        from ._condition import conditioned_kinematics
+
+        rin = prep.rec_in
+        a2 = conditioned_kinematics(rin.time, rin.position, rin.velocity, cond.source, 2 * cond.window - 1,
+                                    cond.order)[1]
+        nuisance.append(np.where(split.keep, float(base.J) * (a_m - a2), 0.0))
+    known["nuisance"] = np.column_stack(nuisance)
     r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
@@ -414,7 +426,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         ctx = _context(prep, split, floor, current, r_cur)
         test = test_candidates(current, _specs(current, scales, fit_offset, frozen), names, ctx, kin, split.rows,
                                floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
-                               nuisance=floor.known["eiv_bias_nm"])
+                               nuisance=floor.known["nuisance"])
         order = np.argsort(-test.standardised)
         significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
         r_cur_cv = None
@@ -448,9 +460,9 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
                 p_val = (_paired_block_test(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
                          if np.all(np.isfinite(r1_cv)) else 1.0)
-                if not (cv1 < cv_cur and v1 < v_cur):
-                    why = (f"does not lower the held-out error (cross-validated {cv_cur:.4g} -> {cv1:.4g}, "
-                           f"held-out phase {v_cur:.4g} -> {v1:.4g})")
+                if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_name):
+                    why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
+                           f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
             k1 = len(space.specs) if not frozen else prep.k + sum(
                 len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
             sse1 = _sse(r1, w)
@@ -524,8 +536,8 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
     ctx = _context(prep, split, floor, model, r)
     window = prep.cond.window if prep.cond.source != "recording" else 5
     return attribute(model, _specs(model, floor.scales, fit_offset, frozen), ctx, prep.kin, split.rows,
-                     split.val, floor.null, cfg.null_draws, cfg.alpha_attribute, window, cfg.max_terms,
-                     seed=cfg.seed + 1000, nuisance=floor.known["eiv_bias_nm"])
+                     split.val, split.blocks, floor.null, cfg.null_draws, cfg.alpha_attribute, window, cfg.max_terms,
+                     seed=cfg.seed + 1000, nuisance=floor.known["nuisance"])
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,

@@ -4,6 +4,7 @@ Every loader reports a malformed file by path and line (and column where it appl
 is atomic (temporary file, then rename).
 """
 
+from ._any import read_recording as read_recording
 from ._atomic import (
     MANIFEST as MANIFEST,
     atomic_folder as atomic_folder,

@@ -39,6 +39,8 @@ import numpy as np
 REQUIRED_COLUMNS = ("time_s", "torque_nm")
 KINEMATIC_COLUMNS = ("position_deg", "velocity_deg_s")  # at least one of them
 OPTIONAL_COLUMNS = ("velocity_ref_deg_s", "position_ref_deg", "current_a", "voltage_v")
+# written by `lugre-jax simulate` and read back without use (a recording has no bristle state)
+IGNORED_COLUMNS = ("z_deg",)
 PAPER_UNITS = {
     "time": "s",
     "position": "deg",
@@ -214,6 +216,13 @@ def load_recording(path: str | os.PathLike, cutoff_hz: float | None = None) -> R
             f"{list(REQUIRED_COLUMNS)}, at least one of {list(KINEMATIC_COLUMNS)} "
             f"(optional {list(OPTIONAL_COLUMNS)}), got {header}"
         )
+    # one rule with the friction-data reader: a column the format does not know is refused, not
+    # silently dropped (a misspelt 'velocity_deg_s' would otherwise leave a position-only recording)
+    unknown = [h for h in header if h not in REQUIRED_COLUMNS + KINEMATIC_COLUMNS + OPTIONAL_COLUMNS + IGNORED_COLUMNS]
+    if unknown:
+        raise ValueError(
+            f"{path}: line 1: unknown column(s) {unknown}; expected {list(REQUIRED_COLUMNS)}, at least one of "
+            f"{list(KINEMATIC_COLUMNS)}, and optionally {list(OPTIONAL_COLUMNS + IGNORED_COLUMNS)}")
     wanted = [c for c in REQUIRED_COLUMNS + KINEMATIC_COLUMNS + OPTIONAL_COLUMNS if c in header]
     idx = {c: header.index(c) for c in wanted}
     data: dict[str, list[float]] = {c: [] for c in wanted}
