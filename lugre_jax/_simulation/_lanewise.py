@@ -15,7 +15,7 @@ import jax.numpy as jnp
 
 from ._fixed import above, below
 from ._solution import RESULT_NONFINITE, RESULT_OK, RESULT_SOLVER_FAILED
-from ._system import N_STATES, rates, split
+from ._system import N_STATES, rates, sample, split
 
 
 def end_stage(tableau) -> int:
@@ -34,9 +34,11 @@ def _hermite(y0, k0, y1, k1, h, s):
     return tuple(a * p + (b * h) * kp + c * q + (d * h) * kq for p, kp, q, kq in zip(y0, k0, y1, k1))
 
 
-def solve_lanewise(system, n: int, sample_hz: float, stepping):
+def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     """``(ys (b, n, 8), result (b,), steps (b,))`` at the samples ``i/sample_hz`` for a batched
-    ``system`` (every array leaf with a leading lane axis ``b``); never raises.
+    ``system`` (every array leaf with a leading lane axis ``b``); never raises. With ``sample_fn``
+    (a function of one :class:`Sample`) ``ys`` is instead the per-lane mean of ``sample_fn`` over
+    the samples, accumulated where each sample is interpolated: nothing is stored per sample.
 
     Written at the level of the batch, not vmapped: under ``vmap`` a ``while_loop`` with a per-lane
     condition selects between the old and the new value of its whole carry on every iteration,
@@ -118,9 +120,15 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping):
         for r in range(k_rows):
             i = first + r
             s = jnp.clip((i * h_sample - t) * inv_h, 0.0, 1.0)
-            row = jnp.stack(_hermite(y, k0, y1, k_end, h, s), axis=-1)
-            idx = jnp.where(accept & (i <= last), i, n)  # n: out of range, dropped
-            buf = buf.at[lanes, idx].set(row, mode="drop")
+            interp = _hermite(y, k0, y1, k_end, h, s)
+            take = accept & (i <= last)
+            if sample_fn is None:
+                idx = jnp.where(take, i, n)  # n: out of range, dropped
+                buf = buf.at[lanes, idx].set(jnp.stack(interp, axis=-1), mode="drop")
+            else:
+                val = per_sample(system, i, i * h_sample, interp)
+                buf = jax.tree.map(lambda a, v: a + jnp.where(take.reshape(take.shape + (1,) * (v.ndim - 1)), v, 0.0),
+                                   buf, val)
         factor = jnp.where(finite, 0.9 * jnp.maximum(ratio, 1e-10) ** (-1.0 / order), 0.2)
         h_new = jnp.where(running, h * jnp.clip(factor, 0.2, 5.0), h_try)
         # a step cut short to land on a jump keeps the proposal it was cut from
@@ -136,12 +144,22 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping):
 
     y0 = split(y0_all)
     zeros = jnp.zeros((b,), y0_all.dtype)
-    buf = jnp.zeros((b, n, N_STATES), dtype=y0_all.dtype).at[:, 0].set(y0_all)
+    if sample_fn is None:
+        buf = jnp.zeros((b, n, N_STATES), dtype=y0_all.dtype).at[:, 0].set(y0_all)
+    else:
+        per_sample = eqx.filter_vmap(lambda s_, i, ti, yi: sample_fn(sample(s_, i, ti, yi)))
+        buf = per_sample(system, jnp.zeros((b,), jnp.int32), zeros, y0)  # sample 0
     h0 = jnp.full((b,), min(stepping.dt0, dtmax), y0_all.dtype)
     init = (zeros, y0, rhs(system, zeros, y0), h0, buf, jnp.zeros((b,), jnp.int32), jnp.ones((b,), bool),
             jnp.full((b,), t_final > 0))
-    t, _, _, _, buf, steps, ok, _ = jax.lax.while_loop(cond, body, init)
+    t, y, _, _, buf, steps, ok, _ = jax.lax.while_loop(cond, body, init)
     finished = ok & (t >= t_final)
-    finite = jnp.all(jnp.isfinite(buf), axis=(1, 2))
+    if sample_fn is None:
+        finite = jnp.all(jnp.isfinite(buf), axis=(1, 2))
+    else:
+        # a state that blew up makes the error estimate non-finite: the lane stops there and
+        # fails unless its final state is finite
+        finite = jnp.all(jnp.stack([jnp.isfinite(c) for c in y]), axis=0)
+        buf = jax.tree.map(lambda a: a / n, buf)
     code = jnp.where(finished, jnp.where(finite, RESULT_OK, RESULT_NONFINITE), RESULT_SOLVER_FAILED)
     return buf, code, steps

@@ -89,13 +89,12 @@ def _solve_chunk(system: System, n: int, sample_hz: float, stepping: LaneAdaptiv
     if check_inertia:
         J = eqx.error_if(system.joint.J, ~(system.joint.J > 0), _J_MESSAGE)
         system = eqx.tree_at(lambda s: s.joint.J, system, J)
+    if saveat.mean is not None:
+        return SampleMean(*solve_lanewise(system, n, sample_hz, stepping, saveat.mean)[:2])
     ys, res, _ = solve_lanewise(system, n, sample_hz, stepping)
     ts = jnp.arange(n) / sample_hz
 
     def finish(s_, y_, r_):
-        if saveat.mean is not None:
-            vals = jax.vmap(lambda i, t, y: saveat.mean(sample(s_, i, t, split(y))))(jnp.arange(n), ts, y_)
-            return SampleMean(jax.tree.map(lambda v: jnp.mean(v, axis=0), vals), r_)
         sol = _outputs(s_, ts, y_, r_)
         return sol if saveat.fn is None else saveat.fn(sol)
 
