@@ -104,6 +104,7 @@ class Attribution:
     validation_rmse_before_nm: float
     validation_rmse_after_nm: float
     tests: tuple
+    columns: tuple = dataclasses.field(default=(), repr=False, compare=False)  # each term's regressors (n x k)
 
     @property
     def found(self) -> bool:
@@ -187,4 +188,4 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
                       "units": list(g.units), "reading": g.reading, "p_family": float(p_adj[k]),
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": float(p_held)})
         after = new
-    return Attribution(tuple(terms), before, after, tuple(tests))
+    return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))

@@ -357,7 +357,8 @@ class Compliance(AbstractCandidate):
     J_load: jax.Array = cparam("T/A", 0.0, 5.0)
     id: ClassVar[str] = "compliance"
     searches_residual: ClassVar[bool] = True
-    key_params: ClassVar[dict] = {"J_load": 0.0, "fn": 0.0}
+    # the load inertia is the effect's size; a natural frequency has no "no effect" value
+    key_params: ClassVar[dict] = {"J_load": 0.0}
 
     def implausible(self, ctx):
         fc = ctx.accel_bandwidth_hz

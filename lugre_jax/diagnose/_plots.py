@@ -149,4 +149,50 @@ def plot_report(report: Diagnosis, rec, outdir: str | os.PathLike) -> list[str]:
             ax.legend(fontsize=8, markerscale=8)
             save_figure(fig, outdir / f"effect_{c.id}.png")
             written.append(str(outdir / f"effect_{c.id}.png"))
+    terms = (report.attribution or {}).get("terms", [])
+    if terms and arr.attribution_columns:
+        written.append(_plot_attribution(report, rec, r1, terms, arr.attribution_columns, outdir, plt))
     return written
+
+
+def _plot_attribution(report, rec, r, terms, columns, outdir, plt) -> str:
+    """Residual left by the selection against each attributed signal, binned, with the discovered
+    term (its fitted coefficients times the signal) drawn over it."""
+    u = rec.units
+    fig, axs = plt.subplots(1, len(terms), figsize=(5.5 * len(terms), 4), squeeze=False)
+    keep = r != 0
+    for ax, term, X in zip(axs[0], terms, columns):
+        X = np.asarray(X, float)
+        fit = X @ np.asarray(term["coefficients"], float)
+        if X.shape[1] == 1:
+            x, xlabel = X[:, 0], f"{term['columns'][0]} [{_signal_unit(term, u)}]"
+        else:  # a time line: against time
+            x, xlabel = np.asarray(rec.time, float), f"time [{u['time']}]"
+        edges = np.quantile(x[keep], np.linspace(0, 1, 31))
+        c, m, sd = _binned(x[keep], r[keep], edges)
+        ax.plot(x[keep], r[keep], ",", color="0.75", label="residual (samples)")
+        ax.errorbar(c, m, sd, fmt="o", ms=3, color="C0", label="binned mean, 95% CI")
+        o = np.argsort(x)
+        ax.plot(x[o], fit[o], color="C3", lw=1.5,
+                label="discovered term: " + " + ".join(f"{b:.3g}*{lab}" for b, lab in
+                                                     zip(term["coefficients"], term["columns"])))
+        ax.set_ylim(np.percentile(r[keep], [0.5, 99.5]) * 1.2)
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"residual [{u['torque']}]")
+        ax.set_title(f"{term['signal']}: {term['reading'].split(':')[0]}", fontsize=9)
+        ax.legend(fontsize=7, loc="upper left")
+    a = report.attribution
+    fig.suptitle(f"attribution: held-out RMSE {a['validation_rmse_before_nm']:.4g} -> "
+                 f"{a['validation_rmse_after_nm']:.4g} {u['torque']}", fontsize=10)
+    path = Path(outdir) / "attribution.png"
+    save_figure(fig, path)
+    return str(path)
+
+
+def _signal_unit(term, u) -> str:
+    """The signal's unit: the torque unit over the coefficient's."""
+    coef_unit = term["units"][0]
+    return {"torque_rate": f"{u['torque']}/{u['time']}", "velocity_squared": f"{u['position']}^2/{u['time']}^2",
+            "transmitted_torque": u["torque"], "jerk": f"{u['position']}/{u['time']}^3",
+            "time": u["time"], "position": u["position"]}.get(term["signal"], f"{u['torque']}/({coef_unit})")

@@ -113,11 +113,14 @@ class Finding:
     ``explanation``: what it is, in words; ``params``: the fitted effect's parameters in the FINAL
     joint model, with every accepted effect and the baseline refitted together (free-form, the
     candidate's ``describe()``, the same as in ``Diagnosis.improved.params``; for ``unexplained``:
-    ``{"regions": [...]}``, the located regions left, as :meth:`Region.to_json`, at most 10);
+    ``{"regions": [...], "attribution": {...}}``, the located regions left, as
+    :meth:`Region.to_json`, at most 10, and what the residual follows, ``Diagnosis.attribution``);
     ``validation_rmse_nm``: held-out RMSE of the model at the step that accepted it (it and the
-    findings before it, on the fixed held-out phase); ``delta_bic`` (< 0) and ``p_validation``
-    (< alpha, the held-out test cross-validated over the five block phases): the evidence it was
-    accepted on at that step (``None`` for ``unexplained``, which is not a fit).
+    findings before it, on the fixed held-out phase). The evidence it was accepted on at that step
+    (``None`` for ``unexplained``, which is not a fit): ``p_family``, its gain against the null
+    simulated for the recording, family-wise over the step's candidates (below a third of alpha);
+    ``p_validation``, the held-out test cross-validated over the block phases (below a third of
+    alpha); ``delta_bic``, for information.
     """
 
     name: str
@@ -175,6 +178,7 @@ class DiagnosisArrays:
     blocks: Any
     loc0: dict
     loc1: dict
+    attribution_columns: tuple = ()  # each attributed term's regressors (n x k), in order
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,24 +1,18 @@
-"""Name the missing physics: score candidates on the located residual, refit jointly, select greedily.
+"""The diagnosis pipeline: condition -> fit baseline -> noise model -> locate -> select -> attribute
+-> report (the joint model and friction are those of Li et al., Electronics 2020, 9, 284).
 
-Pipeline (the joint model and friction are those of Li et al., Electronics 2020, 9, 284):
-
-1. fit the baseline (inverse LuGre joint model) by Levenberg-Marquardt on the training blocks;
-2. :func:`~lugre_jax.diagnose._locate.locate` the residual (Holm-controlled family of tests);
-   if nothing is located the verdict is ``none`` and no physics is claimed;
-3. otherwise score every applicable candidate on the located residual: of its multi-start guesses
-   (e.g. the position-periodogram peaks for a ripple), keep the one whose torque projects best
-   onto the residual; that projected drop of the residual sum of squares is its score;
-4. refit the best ``top_k`` (default 4) JOINTLY with the baseline by LM -- jointly, because
-   friction parameters trade off against the new physics (e.g. Fs, vs against the Stribeck
-   exponent); accept the candidate with the largest BIC drop
-   BIC if (a) BIC decreases, computed with the effective sample size N/kappa (kappa: long-run
-   variance factor of the candidate model's residual) so that autocorrelated noise does not
-   inflate the evidence, and (b) the held-out error decreases significantly, cross-validated
-   over the five phases of the interleaved time blocks (each phase's samples predicted by refits
-   of the candidate model and of the current one that left that phase out; one-sided test of the
-   squared-error drop, noise variance estimated cluster-robustly over the blocks, p < alpha);
-5. repeat from 2 on the new residual (greedy forward selection) until nothing is located or no
-   candidate is accepted; structure that remains located is reported as ``unexplained``.
+1. :func:`_prepare`: condition the kinematics from the data and fit the inverse LuGre joint model
+   by Levenberg-Marquardt on the training blocks (:func:`_split`: every fifth time block held out);
+2. :func:`_floor`: the noise floor and the null model (torque noise and the kinematics' errors,
+   :mod:`._calibrate`);
+3. :func:`~._locate.locate`: residual tests, Holm-controlled at a third of alpha;
+4. :func:`_select`: greedy forward selection; at each step every candidate's first-order gain is
+   tested against null draws simulated for this recording (max-T, a third of alpha); the most
+   significant candidates are refitted jointly with the current model, and the first that is
+   plausible, identifiable and lowers the held-out error significantly is accepted;
+5. :func:`_attribute`: what no candidate explains is attributed to a term library (the last third
+   of alpha, :mod:`._attribute`);
+6. :func:`_report`: the typed :class:`~._report.Diagnosis` (REPORT.json).
 """
 
 from __future__ import annotations
@@ -588,7 +582,8 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
         params={**M.model_params(current), **{c.id: c.describe(ctx_final) for c in current.candidates}},
         rmse_nm=float(np.sqrt(np.mean(r_cur[w > 0] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
-                             val=val, blocks=blocks, loc0=loc0, loc1=loc_cur)
+                             val=val, blocks=blocks, loc0=loc0, loc1=loc_cur,
+                             attribution_columns=attribution.columns)
     return Diagnosis(recording=recording, baseline=baseline, alpha=cfg.alpha, kappa_long_run_variance=loc0["kappa"],
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
                      improved=improved, selection_log=log, seconds=time.time() - t_start, arrays=arrays,
