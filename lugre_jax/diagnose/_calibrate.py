@@ -40,11 +40,12 @@ class NullModel:
     ``torque_sd`` and ``torque_phi``: the torque channel's noise (AR(1) standard deviation and
     coefficient); ``kinematic_draws``: pairs ``(synthetic, reference)`` of conditioned kinematics
     from :func:`._condition.perturbed_kinematics` (model-free; the current model turns each pair
-    into a torque error)."""
+    into a torque error), scaled by ``kinematic_scale`` (at most 1: see ``diagnose``'s floor)."""
 
     torque_sd: float
     torque_phi: float
     kinematic_draws: tuple
+    kinematic_scale: float = 1.0
 
     def torque_noise(self, rng: np.random.Generator, shape: tuple[int, int]) -> np.ndarray:
         e = rng.standard_normal(shape)
@@ -67,7 +68,8 @@ class NullModel:
         # its own re-quantisation) overstates what the recording's residual keeps, which locate
         # takes as a known shape instead
         d = np.asarray(out)
-        return d - d.mean(axis=0) if centred and d.shape[0] > 1 else d
+        d = d - d.mean(axis=0) if centred and d.shape[0] > 1 else d
+        return self.kinematic_scale * d
 
 
 def _as_kin(kin, x):

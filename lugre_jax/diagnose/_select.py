@@ -336,6 +336,19 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     if d.shape[0] > 1 and np.any(split.rows):
         dc = d - d.mean(axis=0)
         kin_noise = float(np.sqrt(np.mean(dc[:, split.rows] ** 2) * d.shape[0] / (d.shape[0] - 1)))
+    # the simulated kinematic errors can be larger than the recording's (a velocity column whose
+    # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
+    # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
+    # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
+    r_b = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
+    n_val = max(int(split.val.sum()), 1)
+    kappa0 = L.long_run_variance_factor(r_b, split.blocks)
+    held = _val_rmse(r_b, split.val) * (1.0 + 2.0 / np.sqrt(2.0 * n_val / max(kappa0, 1.0)))
+    room = max(held ** 2 - cond.torque_noise ** 2, 0.0)
+    if kin_noise > 0 and kin_noise ** 2 > room:
+        scale = float(np.sqrt(room) / kin_noise)
+        null = dataclasses.replace(null, kinematic_scale=scale)
+        kin_noise *= scale
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     # the shapes a correct model's residual keeps in expectation, which no test may claim: the
     # kinematics' systematic error (above) and the smoothing's bias, J times the change of the
