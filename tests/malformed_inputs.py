@@ -473,7 +473,8 @@ with 143, one line, nothing half-written (`tests/test_interrupt.py`; the last tw
   written last) that names the command. It is replaced as a whole when the new run has finished.
   Any other folder is refused, so no file the user put there is deleted.
 - A sweep's folder (`sweep --out`) is kept and resumed when it holds a sweep of the same SPEC (its
-  `manifest.json`); a folder of another SPEC, or one that is not a sweep, is refused.
+  `sweep_state.json`, written first); a folder of another SPEC, or one that is not a sweep, is
+  refused. A finished sweep also gets the `MANIFEST.json` every command's result has.
 
 Outputs are staged beside their targets and moved into place only when the whole command succeeded.
 Only a process killed outright (SIGKILL, power loss) can leave something: a hidden
@@ -518,13 +519,9 @@ FOOTER = """
   SIGINT.
 - **Interrupts are tested automatically for `reproduce` only.** `simulate`, `identify` and `diagnose`
   were interrupted by hand (SIGINT and SIGTERM, 4-9 s into a run): 130 / 143, one line, nothing left.
-- **Two commands check their outputs only once the package has loaded** (a few seconds, before any
-  work): `diagnose` (its checks run at the start of its work, not in the early phase) and
-  `reproduce --data` (the CSV is read then). Sweep's SPEC, and whether a sweep folder holds the same
-  SPEC, are checked then too.
-- **Two manifest names.** A sweep's folder carries the runner's `manifest.json` (its SPEC's hash,
-  written first, so that a run resumes), not the `MANIFEST.json` that marks the other commands'
-  finished results.
+- **One command checks part of its input only once the package has loaded** (a few seconds, before
+  any work): `reproduce --data` (the CSV is read then). Sweep's SPEC, and whether a sweep folder
+  holds the same SPEC, are checked then too.
 - **Figures are checked by eye, not by a test:** Fig. 10c's reference lines are black/grey outside the
   traces' colour cycle; the diagnose velocity plot has fixed symlog ticks a decade apart.
 """

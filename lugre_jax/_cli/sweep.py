@@ -16,7 +16,7 @@ from ._args import add_quiet, check_input
 from ._outputs import _check_parent, _writable
 
 # The sweep runner's own state file in --out (SPEC hash, point and chunk counts).
-SWEEP_STATE = "manifest.json"
+SWEEP_STATE = "sweep_state.json"
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

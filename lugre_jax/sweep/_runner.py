@@ -2,7 +2,7 @@
 
 Folder layout (``out``)::
 
-    manifest.json          SPEC hash, point and chunk counts (written once; a different SPEC is refused)
+    sweep_state.json       SPEC hash, point and chunk counts (written once; a different SPEC is refused)
     spec.json              the SPEC, scenario inlined
     samples.npy            (n_points, D) parameter values, in the sampler's order
     chunks/chunk_NNNNNN.npz  per chunk: Y (points, outputs) and status (points,) int8
@@ -41,7 +41,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._simulation import RESULT_OK, Adaptive, Lanes, SaveAt, simulate
-from ..io import atomic_path, write_csv, write_json
+from ..io import atomic_path, write_csv, write_json, write_manifest
 from ._paths import batch_system
 from ._sample import Grid, Saltelli
 from ._sobol import sobol_analyze
@@ -49,7 +49,9 @@ from ._spec import SweepSpec
 
 STATUS_FAST, STATUS_STIFF, STATUS_FAILED = 0, 1, 2
 _CSV_MAX = 262_144
-_MANIFEST = "manifest.json"
+# the runner's resume state (SPEC hash and counts); MANIFEST.json, every command's completion record,
+# is written last over the whole folder
+_MANIFEST = "sweep_state.json"
 _ACCURACY = "accuracy.json"
 # The accuracy check's reference: implicit, so it holds on stiff lanes, and far tighter than any
 # metric's tolerance.
@@ -204,7 +206,7 @@ def _prepare(spec: SweepSpec, out: Path, X: np.ndarray, n_chunks: int, rank: int
         except (OSError, json.JSONDecodeError, AttributeError):
             old = None
         if old != digest:
-            raise ValueError(f"{out}: holds a sweep of a different SPEC (manifest.json spec_sha256 {str(old)[:12]}... "
+            raise ValueError(f"{out}: holds a sweep of a different SPEC ({_MANIFEST} spec_sha256 {str(old)[:12]}... "
                              f"!= {digest[:12]}...); use a new --out folder or delete this one")
         return
     if out.exists() and any(out.iterdir()):
@@ -361,4 +363,5 @@ def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures,
             tornado_plots(indices, out)
         if isinstance(spec.sampler, Grid):
             grid_heatmaps(spec, X, Y, status, out)
+    write_manifest(out, {"command": "sweep", "spec_sha256": spec.digest()})
     return SweepResult(str(out), int(X.shape[0]), n_chunks, computed, True, counts, indices, seconds, accuracy)
