@@ -434,7 +434,11 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         test = test_candidates(current, _specs(current, scales, fit_offset, frozen), names, ctx, kin, split.rows,
                                floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
                                nuisance=floor.known["nuisance"])
-        order = np.argsort(-test.standardised)
+        # significance is family-wise (max-T); among the significant, the candidate that explains the
+        # most beyond what noise alone gives it (gain less its null mean) is refitted first: the
+        # standardised gain would favour a one-shape candidate that takes a sliver of a larger effect
+        excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
+        order = np.argsort(-excess)
         significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
         r_cur_cv = None
         trials = []
