@@ -120,13 +120,22 @@ class Attribution:
                 "validation_rmse_after_nm": self.validation_rmse_after_nm, "tests": list(self.tests)}
 
 
+# groups built from the acceleration's derivatives or magnitude: with derivatives of a quantised
+# position their error is correlated for as long as the joint takes to cross an encoder step, and
+# no null bounded from the data exists (the same rule keeps locate's a, jerk and |a|*sign(v)
+# cross-correlations off there)
+ACCELERATION_GROUPS = ("torque_rate", "jerk", "transmitted_torque")
+
+
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
-              max_terms: int = 2, seed: int = 0, nuisance=None) -> Attribution:
-    """Greedy, calibrated attribution of ``ctx.residual`` (module docstring)."""
+              max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False) -> Attribution:
+    """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
+    ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
     _, F, tau_model = (np.asarray(x) for x in M._parts(model, kin))
-    groups = library(ctx, tau_model, window)
+    groups = [(g, X) for g, X in library(ctx, tau_model, window)
+              if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
     QB, Rn = C.null_residuals(model, specs, kin, rows, null, n_draws, seed, nuisance)
     JB = C.jacobian(model, specs, kin, np.ones(r.size, bool))  # all rows, for held-out prediction
     if nuisance is not None:

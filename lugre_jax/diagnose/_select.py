@@ -548,7 +548,8 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
     window = prep.cond.window if prep.cond.source != "recording" else 5
     return attribute(model, _specs(model, floor.scales, fit_offset, frozen), ctx, prep.kin, split.rows,
                      split.val, split.blocks, floor.null, cfg.null_draws, cfg.alpha_attribute, window, cfg.max_terms,
-                     seed=cfg.seed + 1000, nuisance=floor.known["nuisance"])
+                     seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
+                     quantised_derivatives=prep.cond.source == "position" and prep.cond.quantisation > 0)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
