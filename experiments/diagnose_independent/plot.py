@@ -89,28 +89,23 @@ def null_table(null, title, figure):
 
 
 def _dependence(row):
-    """Whatever the report says the unexplained residual depends on (the field's name may vary:
-    ``attribution``, ``depends_on``, ``dependence``, ``signals`` in a missing-physics entry's
-    ``params`` or on the entry itself); '-' when there is none."""
-    keys = ("attribution", "depends_on", "dependence", "signals", "term")
+    """The signals the report's attribution names for the unexplained residual (REPORT
+    ``missing_physics[...].params.attribution.signals``), with each term's coefficient; '-' when
+    there is none."""
     found = []
     for m in row.get("missing_physics") or []:
-        if not isinstance(m, dict):
-            continue
-        for place in (m.get("params") or {}, m):
-            for k in keys:
-                if isinstance(place, dict) and place.get(k) not in (None, "", [], {}):
-                    v = place[k]
-                    found.append(v if isinstance(v, str) else json.dumps(v, default=str)[:160])
-    return "; ".join(dict.fromkeys(found)) or "-"
+        att = ((m or {}).get("params") or {}).get("attribution") or {}
+        for t in att.get("terms", []):
+            found.append(f"{t['signal']} ({', '.join(f'{c:.3g}' for c in t['coefficients'])} {t['units'][0]})")
+    return "; ".join(found) or "-"
 
 
-def new_study_tables(out):
+def new_study_tables(out, suffix=""):
     """Summary of the calib, fresh3 and outside studies (results/<study>/runs_<study>.jsonl):
     verdict rates, and the noise floor against the TRUE torque noise std of each recording."""
     lines = []
     for study in ("calib", "fresh3", "outside"):
-        rows = load(out / study / f"runs_{study}.jsonl")
+        rows = load(out / (study + suffix) / f"runs_{study}.jsonl")
         if not rows:
             continue
         nulls = [r for r in rows if r["expected"] == "none"]
@@ -139,7 +134,8 @@ def new_study_tables(out):
                   "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sorted(rows, key=lambda r: r["key"]):
             sensors = "+".join(k for k, on in (("pos", r.get("position_column", True)), ("vel", r["velocity_column"])) if on)
-            exp = r["expected"] + (f" ({r['expected_dependence']})" if r.get("expected_dependence") else "")
+            exp = (r["expected"] + (f" ({r['expected_dependence']})" if r.get("expected_dependence") else "")
+                   ).replace("|", "\\|")
             before, after = r.get("baseline_val_rmse"), r.get("improved_val_rmse")
             rmse = f"{before:.4f} -> {after:.4f}" if before is not None and after is not None else "-"
             peak = r.get("peak_over_noise")
@@ -155,15 +151,17 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results")))
     ap.add_argument("--new", action="store_true",
-                    help="only the calib, fresh3 and outside studies, to <out>/summary_rebuilt.md")
+                    help="only the calib, fresh3 and outside studies, to <out>/summary_rebuilt<suffix>.md")
+    ap.add_argument("--suffix", default="",
+                    help="with --new: read <out>/<study><suffix>/ (a re-run into another folder, e.g. _final)")
     a = ap.parse_args()
     out = Path(a.out)
     if a.new:
-        lines = new_study_tables(out)
+        lines = new_study_tables(out, a.suffix)
         if not lines:
             print(f"no runs of calib, fresh3 or outside under {out} (runs_<study>.jsonl in <out>/<study>/)")
             return
-        (out / "summary_rebuilt.md").write_text("\n".join(lines) + "\n")
+        (out / f"summary_rebuilt{a.suffix}.md").write_text("\n".join(lines) + "\n")
         print("\n".join(lines))
         return
     null, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "proof"))
