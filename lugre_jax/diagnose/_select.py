@@ -268,7 +268,8 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
             break
         crec2, cond2, unresolved2 = condition(rec, J_fit, s2_fit)
-        if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order):
+        if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order) \
+                or cond2.source == "recording":  # no window error to compare for data used as loaded
             break
         mse_old = condition(rec, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
         mse_new = condition(rec, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
