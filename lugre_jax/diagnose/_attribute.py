@@ -173,9 +173,13 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         p_raw, p_adj, z = C.max_t(np.asarray(obs), np.stack(T, axis=1))
         tests.append([{"signal": g.name, "gain_nm2": o, "gain_over_null_mean": float(zz), "p_raw": float(pr),
                        "p_family": float(pa)} for (g, _), o, zz, pr, pa in zip(cands, obs, z, p_raw, p_adj)])
-        k = int(np.argmax(z))
-        if not p_adj[k] < alpha:
+        obs_a = np.asarray(obs)
+        sig = np.flatnonzero(p_adj < alpha)
+        if sig.size == 0:
             break
+        # as for the candidates: of the significant groups, the one explaining the most beyond its null
+        excess = obs_a - obs_a / np.maximum(z, 1e-300)
+        k = int(sig[np.argmax(excess[sig])])
         g, X = cands[k]
         # least squares on the training rows (with the model's own linearised refit), held-out prediction
         Xall = np.column_stack([JB] + [Xc for _, Xc in chosen] + [X])
