@@ -78,16 +78,13 @@ TIME_LINE = TermGroup("time_periodic", ("sin(2*pi*f*t)", "cos(2*pi*f*t)"), ("1",
 def _time_line_freqs(t, R, rows, min_periods: float = 3.0):
     """Strongest ordinate of each residual's periodogram between ``min_periods`` periods in the
     recording and a quarter of the sample rate (rows: residuals, full length)."""
-    n = R.shape[1]
-    dt = float(np.median(np.diff(t)))
-    X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), axis=1)
-    f = np.fft.rfftfreq(n, dt)
-    D = float(t[-1] - t[0])
-    band = (f >= min_periods / D) & (f <= 0.25 / dt)
+    from ._locate import _power
+
+    f, P = _power(t, R)
+    band = (f >= min_periods / float(t[-1] - t[0])) & (f <= 0.25 / float(np.median(np.diff(t))))
     if not band.any():
-        return np.zeros(R.shape[0])
-    P = np.abs(X[:, band]) ** 2
-    return f[band][np.argmax(P, axis=1)]
+        return np.zeros(np.atleast_2d(R).shape[0])
+    return f[band][np.argmax(P[:, band], axis=1)]
 
 
 def _sincos(t, f):
@@ -186,9 +183,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
         pred = Xall @ beta
         new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
-        from ._select import _paired_block_test
-
-        p_held = _paired_block_test(r_fit, r - pred, blocks, val)
+        p_held = C.held_out_p(r_fit, r - pred, blocks, val)
         if not (new < after and p_held < alpha):
             tests[-1].append({"rejected": g.name,
                               "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g}"})

@@ -324,13 +324,16 @@ def _local_background(I, half_window: int, share: float = 1.0 / 3.0, min_half: i
     return (bg[0] if np.ndim(I) == 1 else bg), used
 
 
-def _time_lines(t, R, half_window: int = 200):
+def _power(t, R):
+    """Schuster periodogram of every row of ``R`` without its zero frequency: (frequencies, power)."""
     R = np.atleast_2d(np.asarray(R, float))
     n = R.shape[1]
-    dt = float(np.median(np.diff(t)))
     X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), axis=1)
-    I = (np.abs(X) ** 2 / n)[:, 1:]
-    f = np.fft.rfftfreq(n, dt)[1:]
+    return np.fft.rfftfreq(n, float(np.median(np.diff(t))))[1:], (np.abs(X) ** 2 / n)[:, 1:]
+
+
+def _time_lines(t, R, half_window: int = 200):
+    f, I = _power(t, R)
     bg, used = _local_background(I, half_window)
     ratio = I / np.maximum(bg / np.log(2), 1e-300)
     nu = BACKGROUND_DOF * used
@@ -349,11 +352,7 @@ def time_peaks_many(t, R, half_window: int = 200, stride: int = 16) -> np.ndarra
     whole test)."""
     from numpy.lib.stride_tricks import sliding_window_view
 
-    R = np.atleast_2d(np.asarray(R, float))
-    n = R.shape[1]
-    dt = float(np.median(np.diff(t)))
-    I = (np.abs(np.fft.rfft(R - R.mean(axis=1, keepdims=True), axis=1)) ** 2 / n)[:, 1:]
-    f = np.fft.rfftfreq(n, dt)[1:]
+    f, I = _power(t, R)
     m = I.shape[1]
     h = min(half_window, max(1, (m - 1) // 2))
     padded = np.pad(I, ((0, 0), (h, h)), mode="reflect")

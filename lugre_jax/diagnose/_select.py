@@ -22,11 +22,11 @@ import time
 
 import equinox as eqx
 import numpy as np
-from scipy import stats
 
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
+from ._calibrate import held_out_p
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
 from ._report import Baseline, Diagnosis, DiagnosisArrays, Finding, Improved, RecordingInfo, Region
@@ -54,28 +54,6 @@ def _sse(r, w):
 
 def _val_rmse(r, val):
     return float(np.sqrt(np.mean(r[val] ** 2)))
-
-
-def _paired_block_test(r0, r1, blocks, val):
-    """One-sided p-value that the new model lowers the held-out squared error.
-
-    ``d = sum_val(r0^2 - r1^2)`` with ``r0 - r1 = Delta`` (the change of prediction, fixed by the
-    training data). If the new physics is not real, ``r1 = noise - Delta`` and ``d = sum(2*noise*Delta
-    - Delta^2)``: mean <= 0, variance ``4*var(sum noise*Delta)``, estimated cluster-robustly over the
-    validation time blocks (so autocorrelated noise is allowed) and never below the iid value. z = d/sd is referred to N(0, 1).
-    This is far more powerful than a t-test on block totals when the effect lives in few blocks.
-    """
-    delta = (r0 - r1)[val]
-    d = float(np.sum(r0[val] ** 2 - r1[val] ** 2))
-    _, inv = np.unique(blocks[val], return_inverse=True)
-    sb = np.bincount(inv, weights=r1[val] * delta)
-    # cluster-robust (autocorrelation) or iid, whichever is larger: with the effect in few blocks the
-    # cluster estimate alone is biased low (few effective clusters)
-    sd_iid = 2.0 * float(np.std(r1[val]) * np.sqrt(np.sum(delta ** 2)))
-    sd = max(2.0 * float(np.sqrt(np.sum(sb ** 2))), sd_iid)
-    if sd == 0:
-        return 1.0 if d <= 0 else 0.0
-    return float(stats.norm.sf(d / sd))
 
 
 def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_phase, folds, max_steps) -> np.ndarray:
@@ -341,10 +319,10 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
     # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
     # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
-    r_b = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
+    r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
     n_val = max(int(split.val.sum()), 1)
-    kappa0 = L.long_run_variance_factor(r_b, split.blocks)
-    held = _val_rmse(r_b, split.val) * (1.0 + 2.0 / np.sqrt(2.0 * n_val / max(kappa0, 1.0)))
+    kappa0 = L.long_run_variance_factor(r0, split.blocks)
+    held = _val_rmse(r0, split.val) * (1.0 + 2.0 / np.sqrt(2.0 * n_val / max(kappa0, 1.0)))
     room = max(held ** 2 - cond.torque_noise ** 2, 0.0)
     if kin_noise > 0 and kin_noise ** 2 > room:
         scale = float(np.sqrt(room) / kin_noise)
@@ -363,10 +341,14 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
                                     cond.order)[1]
         nuisance.append(np.where(split.keep, float(base.J) * (a_m - a2), 0.0))
     known["nuisance"] = np.column_stack(nuisance)
-    r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
     return Floor(cond.torque_noise, kin_noise, floor, ratio, lam, known, null, scales)
+
+
+def _quantised_derivatives(cond) -> bool:
+    """The kinematics are derivatives of a quantised position (errors correlated over an encoder step)."""
+    return cond.source == "position" and cond.quantisation > 0
 
 
 def _filter_lags(prep: Prepared) -> int:
@@ -376,7 +358,7 @@ def _filter_lags(prep: Prepared) -> int:
     with acceleration and jerk have no null distribution bounded from the data, so they are not run
     (flags past their largest lag, 0.5 s)."""
     cond = prep.cond
-    if cond.source == "position" and cond.quantisation > 0:
+    if _quantised_derivatives(cond):
         return int(round(0.5 / prep.rec.dt)) + 1
     return cond.window + 2 if cond.source != "recording" else 0
 
@@ -408,10 +390,6 @@ def _context(prep, split, floor, model, r, loc=None) -> M.Context:
                      else 0.25 * fs)
 
 
-def _specs(model, scales, fit_offset, frozen: bool):
-    return _all_specs(model, scales, fit_offset, freeze_baseline=frozen)
-
-
 def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
@@ -432,7 +410,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     while len(accepted) < cfg.max_effects:
         names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
         ctx = _context(prep, split, floor, current, r_cur)
-        test = test_candidates(current, _specs(current, scales, fit_offset, frozen), names, ctx, kin, split.rows,
+        specs_cur = _all_specs(current, scales, fit_offset, freeze_baseline=frozen)
+        test = test_candidates(current, specs_cur, names, ctx, kin, split.rows,
                                floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
                                nuisance=floor.known["nuisance"])
         # significance is family-wise (max-T); among the significant, the candidate that explains the
@@ -447,7 +426,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
             name = test.names[i]
             start = M.JointModel(current.J, current.friction, current.offset,
                                  current.candidates + (test.best_guess[i],))
-            space = M.FitSpace(_specs(start, scales, fit_offset, frozen))
+            space = M.FitSpace(_all_specs(start, scales, fit_offset, freeze_baseline=frozen))
             start = M.clip_into(space, start)
             fitted, finfo = M.fit(start, space, kin, tau, w, max_steps=cfg.max_steps)
             r1 = (tau - M.predict(fitted, kin)) * keep
@@ -465,12 +444,12 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
             v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
             if why is None:
                 if r_cur_cv is None:
-                    r_cur_cv = _cross_validated(current, _specs(current, scales, fit_offset, frozen), kin, tau,
+                    r_cur_cv = _cross_validated(current, specs_cur, kin, tau,
                                                 keep, split.blocks, split.phase, split.folds, cfg.max_steps)
                 r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, split.blocks, split.phase,
                                          split.folds, cfg.max_steps)
                 cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
-                p_val = (_paired_block_test(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
+                p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
                          if np.all(np.isfinite(r1_cv)) else 1.0)
                 if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_name):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
@@ -547,10 +526,10 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
 
     ctx = _context(prep, split, floor, model, r)
     window = prep.cond.window if prep.cond.source != "recording" else 5
-    return attribute(model, _specs(model, floor.scales, fit_offset, frozen), ctx, prep.kin, split.rows,
+    return attribute(model, _all_specs(model, floor.scales, fit_offset, freeze_baseline=frozen), ctx, prep.kin, split.rows,
                      split.val, split.blocks, floor.null, cfg.null_draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
-                     quantised_derivatives=prep.cond.source == "position" and prep.cond.quantisation > 0)
+                     quantised_derivatives=_quantised_derivatives(prep.cond))
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
