@@ -513,10 +513,9 @@ FOOTER = """
   chunks. The default adaptive stepping cannot run longer than `max_steps * dtmax` (4000 s at
   100 Hz): refused before compiling (row above), not solved.
 - **A SIGINT is ignored when the command was started with SIGINT ignored** (a background job of a
-  non-interactive shell, `nohup`), as those ask; SIGTERM still ends it with 143. The SIGINT row of an
-  earlier table (exit 0, the run completed) is reproduced this way, by running the table's generator as a
-  background job. The interrupt rows and `tests/test_interrupt.py` now give the child the default
-  SIGINT.
+  non-interactive shell, `nohup`), as those ask; SIGTERM still ends it with 143. A table generated
+  as a background job would show its SIGINT row as exit 0 (the run completed), so the interrupt rows
+  and `tests/test_interrupt.py` give the child the default SIGINT.
 - **Interrupts are tested automatically for `reproduce` only.** `simulate`, `identify` and `diagnose`
   were interrupted by hand (SIGINT and SIGTERM, 4-9 s into a run): 130 / 143, one line, nothing left.
 - **One command checks part of its input only once the package has loaded** (a few seconds, before
