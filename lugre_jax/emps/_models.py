@@ -29,6 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._params import bounds_of, names_of, param, units_of
+from ..friction import stribeck_g
 
 V_EPS = 1e-4  # m/s, smooth-sign width (module docstring)
 
@@ -149,8 +150,7 @@ class Stribeck(AbstractEmpsModel):
     offset: jnp.ndarray = param("N", -30.0, 30.0)
 
     def friction(self, q, v, z):
-        x = v * (1.0 / self.vs)
-        return self.Fv * v + _sgn(v, V_EPS) * (self.Fc + (self.Fs - self.Fc) * jnp.exp(-x * x)) + self.offset
+        return self.Fv * v + _sgn(v, V_EPS) * stribeck_g(v, self.Fc, self.Fs, self.vs) + self.offset
 
     @classmethod
     def reference(cls):
@@ -174,8 +174,7 @@ class LuGre(AbstractEmpsModel):
     offset: jnp.ndarray = param("N", -30.0, 30.0)
 
     def bristle_terms(self, q, v):
-        x = v * (1.0 / self.vs)
-        g = self.Fc + (self.Fs - self.Fc) * jnp.exp(-x * x)  # the Stribeck level of eq. (10), delta = 2
+        g = stribeck_g(v, self.Fc, self.Fs, self.vs)
         return self.sigma0, self.sigma1, g, self.Fv * v + self.offset
 
     @classmethod
@@ -237,8 +236,7 @@ class AsymmetricLuGreRipple(AbstractEmpsModel):
         s = _sgn(v, V_EPS)
         wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
         fc = wp * self.Fc_pos + wn * self.Fc_neg
-        x = v * (1.0 / self.vs)
-        g = fc + (self.Fs - fc) * jnp.exp(-x * x)
+        g = stribeck_g(v, fc, self.Fs, self.vs)
         w = 2 * jnp.pi * q * (1.0 / self.period)
         other = ((wp * self.Fv_pos + wn * self.Fv_neg) * v
                  + self.a_sin * jnp.sin(w) + self.a_cos * jnp.cos(w))
@@ -317,8 +315,7 @@ class AsymmetricPositionLuGre(AbstractEmpsModel):
         d = q - AsymmetricPositionFriction.Q_MID
         x = d * (1.0 / AsymmetricPositionFriction.HALF_TRAVEL)
         fc = wp * self.Fc_pos + wn * self.Fc_neg + self.c1 * x + self.c2 * x * x
-        y = v * (1.0 / self.vs)
-        g = fc + (self.Fs - fc) * jnp.exp(-y * y)
+        g = stribeck_g(v, fc, self.Fs, self.vs)
         other = (wp * self.Fv_pos + wn * self.Fv_neg) * v + self.k * d
         return self.sigma0, self.sigma1, g, other
 

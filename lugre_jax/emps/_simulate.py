@@ -10,7 +10,7 @@ The plant is integrated within each sample by ``substeps`` steps of a :class:`St
 
 * :class:`RungeKutta`: any explicit diffrax solver (default ``Tsit5``) on ``(q, v, z)``;
 * :class:`ExponentialMidpoint`: the bristle state advanced by its exact exponential with ``v``
-  frozen over the substep (stable however stiff LuGre's ``sigma0*|v|/g`` is), the mass by an
+  frozen over the substep (:func:`lugre_jax.friction.bristle_step`) (stable however stiff LuGre's ``sigma0*|v|/g`` is), the mass by an
   explicit midpoint step with the substep-mean friction force; the default for models with state.
 
 Both loops are ``lax.scan`` over samples: differentiable (forward and reverse), vmappable over
@@ -27,6 +27,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from ..friction import bristle_step
 from ._models import AbstractEmpsModel
 
 VIR_MAX = 10.0  # V, the drive's saturation
@@ -100,14 +101,7 @@ class ExponentialMidpoint(AbstractStepping):
             if not model.has_state:
                 return model.friction(q, vf, z), z
             s0, s1, g, other = model.bristle_terms(q, vf)
-            a = s0 * jnp.abs(vf) / g  # |v|*z form: no v/|v|
-            ah = a * h
-            small = ah < 1e-8
-            ahs = jnp.where(small, 1.0, ah)
-            phi = jnp.where(small, 1.0 - 0.5 * ah, -jnp.expm1(-ahs) / ahs)  # (1 - e^-ah)/(ah)
-            z1 = z * jnp.exp(-ah) + vf * h * phi
-            # substep mean of z: z*phi + (v/a)*(1 - phi), -> z + v*h/2 as a*h -> 0
-            zbar = jnp.where(small, z + 0.5 * vf * h, z * phi + vf * h * (1.0 - phi) / ahs)
+            z1, zbar = bristle_step(z, vf * h, g, s0)  # the exact update and the substep mean of z
             F = s0 * zbar + s1 * (z1 - z) * (1.0 / h) + other
             return F, z1
 
