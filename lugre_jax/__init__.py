@@ -19,6 +19,7 @@ from ._simulation import (
     STATE_NAMES as STATE_NAMES,
     AbstractStepping as AbstractStepping,
     Adaptive as Adaptive,
+    ExponentialBristle as ExponentialBristle,
     FixedStep as FixedStep,
     LaneAdaptive as LaneAdaptive,
     Lanes as Lanes,

@@ -25,6 +25,7 @@ from ._solution import (
 from ._stepping import (
     AbstractStepping as AbstractStepping,
     Adaptive as Adaptive,
+    ExponentialBristle as ExponentialBristle,
     FixedStep as FixedStep,
     LaneAdaptive as LaneAdaptive,
     Lanes as Lanes,

@@ -9,7 +9,7 @@ from jax.ad_checkpoint import checkpoint_name
 from .._fusion import derivative_stored_once, runtime_one
 from .._fusion import stored_once as _stored_once
 from ._solution import RESULT_NONFINITE, RESULT_OK
-from ._stepping import step_for, step_plan
+from ._stepping import ExponentialBristle, step_for, step_plan
 from ._system import rates, sample, split
 
 _STAGE_INPUT = "lugre_jax_stage_input"
@@ -20,31 +20,86 @@ _STAGE_INPUT = "lugre_jax_stage_input"
 _REMAT_POLICY = jax.checkpoint_policies.save_only_these_names(_STAGE_INPUT)
 
 
-def rk_step(tableau, f, t, y, h, k0):
+def rk_step(tableau, f, t, y, h, k0, bristle=None):
     """One explicit Runge-Kutta step from diffrax's Butcher ``tableau``, stages unrolled.
 
     diffrax's generic ``step`` runs its stages in a ``while_loop``; under ``vmap`` that loop and its
     bookkeeping cost more than the stages. Unrolled stages fuse into a few vectorised XLA loops.
     ``k0 = f(t, y)`` is passed in so FSAL tableaus reuse it.
+
+    ``bristle`` (a :class:`_Bristle`), if given, makes it the step of :class:`ExponentialBristle`:
+    where the bristle is stiff, the bristle state of every stage and of the result is its exact
+    update from the step's start (velocity frozen at the stage's mean), and the velocity always
+    integrates the joint's acceleration without the bristle damping ``sigma1*dz/dt``, whose
+    integral is ``sigma1*(z - z0)`` (without stiffness this is the plain Runge-Kutta step).
     """
-    def combo(coeffs):
+    def combo(coeffs, c_frac):
         terms = [(float(c), k) for c, k in zip(coeffs, ks) if c != 0]
-        return tuple(
+        out = tuple(
             yc + h * sum(c * k[i] for c, k in terms) for i, yc in enumerate(y)
         )
+        if bristle is None:
+            return out
+        tau = c_frac * h
+        dpath = h * sum(c * k[0] for c, k in terms)
+        z, s1, x = bristle.advance(y[2], dpath, tau)
+        # The solver's own stage where the bristle is not stiff (x = q*tau << 1: it keeps the
+        # solver's order there), the exact update where it is; blended smoothly in between.
+        x2 = x * x
+        w = -jnp.expm1(-x2 * x2)
+        z = out[2] + w * (z - out[2])
+        omega = y[1] + h * sum(c * m for c, m in zip(coeffs, ms) if c != 0) - s1 * (z - y[2]) * bristle.inv_J
+        return (out[0], omega, z) + out[3:]
 
     # 1.0 computed from the state, so XLA can never fold it to a constant (see _fusion); NaN only
     # in a lane whose state is already NaN, so it changes no result.
     one = runtime_one(y[0])
     ks = [k0]
+    ms = [] if bristle is None else [bristle.undamped(y, k0)]
     last = len(tableau.a_lower) - 1
     for i, a in enumerate(tableau.a_lower):
         # Named so that a reverse pass keeps them from its forward sweep (see _REMAT_POLICY).
-        stage = tuple(checkpoint_name(c, _STAGE_INPUT) for c in _stored_once(combo(a), one))
+        stage = tuple(checkpoint_name(c, _STAGE_INPUT) for c in _stored_once(combo(a, float(tableau.c[i])), one))
         ks.append(f(stage_time(t, h, float(tableau.c[i]), tableau.fsal and i == last), stage))
-    y1 = combo(tableau.b_sol)
+        if bristle is not None:
+            ms.append(bristle.undamped(stage, ks[-1]))
+    y1 = combo(tableau.b_sol, 1.0)
     k1 = ks[-1] if tableau.fsal else f(t + h, y1)
     return y1, k1
+
+
+class _Bristle:
+    """What :func:`rk_step` needs of the friction law and the joint for :class:`ExponentialBristle`."""
+
+    def __init__(self, friction, J):
+        self.friction = friction
+        self.inv_J = 1.0 / J
+
+    def advance(self, z, dpath, tau):
+        """``(z, sigma1, q*tau)``: the bristle state after time ``tau`` [s] in which the joint moved by
+        ``dpath`` [deg], the velocity frozen at ``dpath/tau``, exact for ``dz/dt = p(v) - q(v)*z``;
+        the bristle damping at that velocity; and the stiffness times the time.
+
+        ``p`` and ``q`` are read off the friction law itself at ``z = 0`` and ``z = 1`` (its
+        ``dz/dt`` is affine in ``z``), so segmented and blended laws need nothing of their own.
+        ``exp(-q*tau)`` contracts however large the stiffness times the time is. The frozen
+        velocity is the mean over ``tau`` (not the velocity at its end, which is less accurate on
+        stick-slip lanes: docs/performance.md), so that without stiffness ``z`` advances by the
+        displacement."""
+        v = dpath * (1.0 / tau)
+        zero = jnp.zeros_like(z)
+        _, p = self.friction.torque_and_derivative(zero, v)
+        _, p_minus_q = self.friction.torque_and_derivative(zero + 1.0, v)
+        x = (p - p_minus_q) * tau
+        # phi1(x) = (1 - exp(-x))/x, its series below 1e-8 (no 0/0 at rest)
+        small = x > 1e-8
+        xs = jnp.where(small, x, 1.0)
+        phi = jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+        return jnp.exp(-x) * z + (p * tau) * phi, self.friction.bristle_damping(v), x
+
+    def undamped(self, y, k):
+        """The joint's acceleration without the bristle damping's ``sigma1*dz/dt/J``."""
+        return k[1] + self.friction.bristle_damping(y[1]) * k[2] * self.inv_J
 
 
 def stage_time(t, h, c: float, fsal_stage: bool = False):
@@ -89,8 +144,10 @@ def _hermite(y0, k0, y1, k1, h, s):
 
 
 def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
-    """Fixed-step solve: ``(ys, result)``, or with ``sample_fn`` ``(mean of sample_fn, result)``."""
+    """Fixed-step solve: ``(ys, result)``, or with ``sample_fn`` ``(mean of sample_fn, result)``.
+    ``stepping`` is a :class:`FixedStep` or an :class:`ExponentialBristle` (bristle state exact)."""
     tableau = stepping.solver.tableau
+    bristle = _Bristle(system.friction, system.joint.J) if isinstance(stepping, ExponentialBristle) else None
     h_sample = 1.0 / sample_hz
     sub, span = step_plan(step_for(stepping, sample_hz), sample_hz)
     h = h_sample * span / sub
@@ -106,7 +163,7 @@ def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
         # float time by the step that ends there and the step that starts there.
         t = t0 + j * h
         t_end = jnp.where(j == sub - 1, t0 + span * h_sample, t + h)
-        y1, k1 = rk_step(tableau, f, t, y, t_end - t, k)
+        y1, k1 = rk_step(tableau, f, t, y, t_end - t, k, bristle)
         return (t0, y1, k1), None
 
     def block(carry, i):
@@ -123,6 +180,10 @@ def solve_fixed(system, n: int, sample_hz: float, stepping, sample_fn=None):
         t0 = i * span * h_sample
         (_, y1, k1), _ = jax.lax.scan(substep, (t0, y, k), jnp.arange(sub))
         rows = [y] + [_hermite(y, k, y1, k1, h, j / span) for j in range(1, span)]
+        if bristle is not None:
+            # between steps the bristle state too is the exact update, along the interpolated path
+            rows = [rows[0]] + [r[:2] + (bristle.advance(y[2], r[0] - y[0], (j / span) * h)[0],) + r[3:]
+                                for j, r in enumerate(rows[1:], start=1)]
         if sample_fn is None:
             out = y if span == 1 else tuple(jnp.stack(col) for col in zip(*rows))
             return (y1, k1, finite, acc), out

@@ -17,7 +17,8 @@ from ._jit import array_jit
 from ._lanes import _SYSTEM_LANES, batch_size_of, chunked_lanes, split_lanes
 from ._solution import RESULT_OK, SampleMean, Solution
 from ._lanewise import solve_lanewise
-from ._stepping import AbstractStepping, Adaptive, FixedStep, LaneAdaptive, Lanes, SaveAt, step_for, step_plan
+from ._stepping import (FIXED_STEPPINGS, AbstractStepping, Adaptive, FixedStep, LaneAdaptive, Lanes, SaveAt, step_for,
+                        step_plan)
 from ._system import N_STATES, System, sample, signals, split
 
 # Below this many right-hand-side evaluations per call, splitting lanes over host devices costs more
@@ -69,7 +70,7 @@ def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepp
         J = eqx.error_if(system.joint.J, ~(system.joint.J > 0), _J_MESSAGE)
         system = eqx.tree_at(lambda s: s.joint.J, system, J)
     ts = jnp.arange(n) / sample_hz
-    if isinstance(stepping, FixedStep):
+    if isinstance(stepping, FIXED_STEPPINGS):
         if saveat.mean is not None:
             return SampleMean(*solve_fixed(system, n, sample_hz, stepping, saveat.mean))
         ys, res = solve_fixed(system, n, sample_hz, stepping)
@@ -136,8 +137,9 @@ def simulate(
     1e-10, stepping onto every discontinuity of the reference): correct by default, agreeing with
     a stiff scipy reference to 1e-6 deg in position and 1e-4 N*m in torque. For speed on batches
     choose :class:`FixedStep` explicitly (e.g. ``FixedStep(diffrax.Bosh3(), dt=0.02)``) and check it
-    with :func:`check_stepping`; :class:`LaneAdaptive` gives each lane its own error-controlled step
-    (forward mode only).
+    with :func:`check_stepping`; :class:`ExponentialBristle` is a fixed step whose size is not
+    limited by stiff bristles (the bristle state advanced exactly); :class:`LaneAdaptive` gives
+    each lane its own error-controlled step (forward mode only).
 
     ``saveat``: what is returned per lane (:class:`SaveAt`): the whole :class:`Solution` (default),
     a function of it (``fn``) or a mean over samples accumulated in the time loop (``mean``, a
@@ -154,7 +156,8 @@ def simulate(
     require_x64()
     stepping = default_stepping(batched) if stepping is None else stepping
     if not isinstance(stepping, AbstractStepping):
-        raise TypeError(f"stepping must be lugre_jax.Adaptive(...), LaneAdaptive(...) or FixedStep(...), got "
+        raise TypeError(f"stepping must be lugre_jax.Adaptive(...), LaneAdaptive(...), FixedStep(...) or "
+                        f"ExponentialBristle(...), got "
                         f"{type(stepping).__name__}")
     if not isinstance(saveat, SaveAt):
         raise TypeError(f"saveat must be a lugre_jax.SaveAt, got {type(saveat).__name__}")
@@ -162,7 +165,7 @@ def simulate(
         raise TypeError(f"lanes must be a lugre_jax.Lanes, got {type(lanes).__name__}")
     sample_hz = float(sample_hz)
     n = _sample_grid(float(duration_s), sample_hz)
-    if isinstance(stepping, FixedStep):
+    if isinstance(stepping, FIXED_STEPPINGS):
         step_plan(step_for(stepping, sample_hz), sample_hz)  # a dt that fits no sample grid is refused here
     check_inertia = _check_inertia(system)
     if not batched:
@@ -171,7 +174,7 @@ def simulate(
     b = split[2]
     shard = lanes.shard
     if shard is None:
-        shard = len(jax.local_devices()) > 1 and isinstance(stepping, FixedStep) and \
+        shard = len(jax.local_devices()) > 1 and isinstance(stepping, FIXED_STEPPINGS) and \
             b * rhs_evals(stepping, n, sample_hz) >= _SHARD_MIN_EVALS
     key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
     # a lane's stored samples and working arrays (the solution's columns, a step's stages)

@@ -1,5 +1,6 @@
 """Choices of a simulation, as objects (in the manner of diffrax's solvers, step-size controllers
-and ``SaveAt``): how to step (:class:`FixedStep`, :class:`Adaptive`), what to keep
+and ``SaveAt``): how to step (:class:`FixedStep`, :class:`ExponentialBristle`, :class:`Adaptive`,
+:class:`LaneAdaptive`), what to keep
 (:class:`SaveAt`) and how to spread a batch over chunks and devices (:class:`Lanes`)."""
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ import equinox as eqx
 
 
 class AbstractStepping(eqx.Module):
-    """How the ODE is stepped: :class:`FixedStep` or :class:`Adaptive`."""
+    """How the ODE is stepped: :class:`FixedStep`, :class:`ExponentialBristle`, :class:`Adaptive` or
+    :class:`LaneAdaptive`."""
 
     solver: eqx.AbstractVar[diffrax.AbstractSolver]
 
@@ -66,6 +68,60 @@ class FixedStep(AbstractStepping):
             f"FixedStep({type(self.solver).__name__}())"
 
 
+class ExponentialBristle(AbstractStepping):
+    """A constant step ``dt`` [s] of the explicit Runge-Kutta ``solver`` (as :class:`FixedStep`;
+    default ``Tsit5``) in which the bristle state ``z`` is advanced exactly where it is stiff.
+
+    The bristle equation is affine in ``z``, ``dz/dt = p(v) - q(v)*z`` (LuGre: ``p = v``,
+    ``q = sigma0*|v|/g(v)``), and stiff where ``q`` is large (stiff bristles at speed). At each
+    stage, and for the step's result, ``z`` is the exact solution from the step's start with the
+    velocity frozen at the stage's mean velocity, ``z+ = exp(-q*tau)*z + p*tau*phi1(q*tau)``, which
+    contracts however large ``q*dt`` is; where ``q*tau`` is small the solver's own stage is kept
+    (blended smoothly), so a step without stiff bristles is the :class:`FixedStep` step. The
+    velocity integrates the acceleration without the bristle damping, whose integral over a stage
+    is ``sigma1*(z - z0)``, so the bristle's stiffness does not reach the mechanics either.
+
+    The step is then not limited by ``sigma0*|v|/g(v)``; what still bounds it is the mechanics: the
+    damping ``(sigma1 + sigma2 + kp)/J`` and, while the joint sticks, the pre-sliding spring
+    ``sqrt(sigma0/J)``. Where the bristle is stiff the frozen velocity makes it second order in
+    ``dt`` through slips, so at a given accuracy it needs a smaller step than an explicit step that
+    is stable (docs/performance.md): choose it for lanes on which :class:`FixedStep` blows up at
+    the step you can afford. Needs a friction law whose ``dz/dt`` is affine in ``z`` (every law in
+    :mod:`lugre_jax.friction`); the observer state of :class:`LuGreCompensated` and a motor's
+    current are stepped by the ``solver``. ``dt`` and the sample grid as :class:`FixedStep`.
+    Differentiable in forward and reverse mode. Check its accuracy with
+    :func:`lugre_jax.check_stepping`.
+    """
+
+    solver: diffrax.AbstractSolver = eqx.field(static=True, default_factory=diffrax.Tsit5)
+    dt: float | None = eqx.field(static=True, default=None)
+
+    def __check_init__(self):
+        if not isinstance(self.solver, diffrax.AbstractERK) or not hasattr(self.solver, "tableau"):
+            raise ValueError(f"ExponentialBristle needs an explicit Runge-Kutta diffrax solver (Tsit5, Bosh3, "
+                             f"Heun, Ralston, Midpoint, Dopri5), got {type(self.solver).__name__}")
+        if self.dt is not None and not (isinstance(self.dt, (int, float)) and self.dt > 0):
+            raise ValueError(f"ExponentialBristle.dt must be a positive step in seconds (or None), got {self.dt!r}")
+
+    def step_for(self, sample_hz: float) -> float:
+        """The step [s] used at ``sample_hz``: ``dt``, or by default 2.5e-3 s capped at the sample period."""
+        return step_for(self, sample_hz)
+
+    @property
+    def evals_per_step(self) -> int:
+        """Right-hand-side evaluations per step (an FSAL tableau's last stage is the next k0)."""
+        tableau = self.solver.tableau
+        return len(tableau.a_lower) + (0 if tableau.fsal else 1)
+
+    def describe(self) -> str:
+        return f"ExponentialBristle({type(self.solver).__name__}(), dt={self.dt!r})" if self.dt else \
+            f"ExponentialBristle({type(self.solver).__name__}())"
+
+
+# The steppings solved by the fixed-step loop of ``_fixed``.
+FIXED_STEPPINGS = (FixedStep, ExponentialBristle)
+
+
 def step_plan(dt: float, sample_hz: float) -> tuple[int, int]:
     """``(steps per sample, samples per step)`` for a fixed step ``dt`` [s]: either a step divides
     the sample period (rounded down to a divisor), or it spans a whole number of samples."""
@@ -82,7 +138,7 @@ def step_plan(dt: float, sample_hz: float) -> tuple[int, int]:
     return 1, m
 
 
-def step_for(stepping: FixedStep, sample_hz: float) -> float:
+def step_for(stepping: FixedStep | ExponentialBristle, sample_hz: float) -> float:
     """:meth:`FixedStep.step_for` as a plain function, for code run on every call: reading a method
     off an equinox Module builds a bound-method Module each time."""
     return min(2.5e-3, 1.0 / sample_hz) if stepping.dt is None else float(stepping.dt)
