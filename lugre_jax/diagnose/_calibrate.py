@@ -129,22 +129,27 @@ def _jac_many(us, paths, bounds, template, kin, tau, w):
     return jax.vmap(lambda u: jax.jacfwd(M._residual_fn)(u, (paths, bounds, template, kin, tau, w, 1.0)))(us)
 
 
+def null_draws(model, kin, null: NullModel, n_draws: int, seed: int) -> np.ndarray:
+    """``n_draws`` simulated residuals of ``model`` if it were complete (draws x n, every sample):
+    the torque noise plus the kinematics' errors carried through the model (cycled over the
+    kinematic draws); no refit is taken out, so a test referred to them is slightly conservative."""
+    rng = np.random.default_rng(seed)
+    E = null.torque_noise(rng, (n_draws, kin.v.shape[0]))
+    eiv = null.kinematic_errors(model, kin)
+    return E + eiv[np.arange(n_draws) % eiv.shape[0]] if eiv.shape[0] else E
+
+
 def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None):
     """The current model's Jacobian basis on the training rows (``QB``, with the ``nuisance``
     columns: shapes a correct model's residual keeps, e.g. the kinematics' systematic error) and
     ``n_draws`` null draws of its residual there, each with its projection on ``QB`` removed (what
     a refit leaves): rows x draws."""
-    rng = np.random.default_rng(seed)
     n = kin.v.shape[0]
     JB = jacobian(current, base_specs, kin, rows)
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)[rows]])
     QB = _orth(JB)
-    eiv = null.kinematic_errors(current, kin)
-    E = null.torque_noise(rng, (n_draws, n))
-    if eiv.shape[0]:
-        E = E + eiv[np.arange(n_draws) % eiv.shape[0]]
-    Er = E[:, rows].T
+    Er = null_draws(current, kin, null, n_draws, seed)[:, rows].T
     return QB, (Er - QB @ (QB.T @ Er) if QB.shape[1] else Er)
 
 

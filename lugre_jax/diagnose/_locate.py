@@ -421,6 +421,35 @@ def xcorr_test(r, x, max_lag: int, L: int, min_lag: int = 0, margin_nm: float = 
             "p_value": p, "rho": rho, "lags": lags, "se": se}
 
 
+def _time_line_statistic(t, R, half_window: int = 200, stride: int = 16) -> np.ndarray:
+    """Largest ordinate-over-background ratio of the time periodogram of every row of ``R``, past
+    the first ``MIN_PERIODS`` ordinates (the background as in :func:`time_peaks_many`)."""
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    f, I = _power(t, R)
+    m = I.shape[1]
+    h = min(half_window, max(1, (m - 1) // 2))
+    padded = np.pad(I, ((0, 0), (h, h)), mode="reflect")
+    at = np.unique(np.r_[np.arange(0, m, stride), m - 1])
+    bg_at = np.median(sliding_window_view(padded, 2 * h + 1, axis=1)[:, at], axis=-1)
+    bg = np.stack([np.interp(np.arange(m), at, b) for b in bg_at])
+    ratio = I / np.maximum(bg / np.log(2), 1e-300)
+    return np.max(ratio[:, MIN_PERIODS - 1:], axis=1) if m >= MIN_PERIODS else np.zeros(I.shape[0])
+
+
+def gumbel_sf(x: float, draws: np.ndarray) -> float:
+    """Upper-tail probability of ``x`` under a Gumbel law fitted to ``draws`` by its moments: the
+    largest of many nearly independent ordinates (a periodogram's peak) is Gumbel whatever the
+    ordinates' common law, and the fit extends the null draws' tail past their own resolution."""
+    d = np.asarray(draws, float)
+    sd = float(np.std(d, ddof=1)) if d.size > 1 else 0.0
+    if not sd > 0:
+        return 1.0 if x <= float(np.max(d, initial=0.0)) else 0.0
+    beta = sd * np.sqrt(6.0) / np.pi
+    mu = float(np.mean(d)) - np.euler_gamma * beta
+    return float(-np.expm1(-np.exp(-(x - mu) / beta)))
+
+
 def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
     """Ljung-Box on the ``m`` lags from ``min_lag`` (past the conditioning filter's memory, where the
     smoothed measurement noise the residual carries is uncorrelated).
@@ -438,7 +467,7 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
 
 
 def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, keep=None,
-           friction=None, known: dict | None = None) -> dict:
+           friction=None, known: dict | None = None, null=None) -> dict:
     """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring.
 
     ``filter_lags``: the memory (in samples) of the filter that conditioned the kinematics; the
@@ -450,7 +479,14 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     takes in the residual (the friction-trend test's regressor); without it, sign(v).
     ``known``: what a correct model's residual keeps in expectation, not claimed as structure:
     ``eiv_bias_nm`` and ``conditioning_bias_nm`` (per sample), ``static_basis`` (the baseline's
-    static-curve derivatives), ``eiv_inertial_nm``; default: the recording's ``extra`` columns."""
+    static-curve derivatives), ``eiv_inertial_nm``; default: the recording's ``extra`` columns.
+    ``null``: simulated residuals of a complete model (draws x n, :mod:`._calibrate`'s measurement
+    chain); the two periodograms' peaks then also refer their statistic to its law on the draws,
+    the tail extended by a fitted Gumbel law (:func:`gumbel_sf`), and keep the larger of that
+    p-value and the analytic one: the analytic
+    law holds for noise of the assumed kind, the simulated one for the measurement chain the data
+    show (a quantised encoder's derivatives, coloured noise), and neither test may fire on what the
+    other explains."""
     known = dict(rec.extra) if known is None else {k: v for k, v in known.items() if v is not None}
     r = np.asarray(r, float)
     keep = np.ones(r.shape, bool) if keep is None else np.asarray(keep, bool)
@@ -462,6 +498,16 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     tp = time_periodogram(rec.time, r)
     tests.append({"test": "time_periodic", "region": {"frequency_hz": tp["frequency"]},
                   "statistic": tp["statistic"], "p_value": tp["p_value"]})
+    if null is not None and len(null) > 1:
+        Rn = np.asarray(null, float) * keep[None, :]
+        _, drop_n, *_ = _position_lines(rec.position, Rn)
+        _, drop_o, *_ = _position_lines(rec.position, r)
+        tests[-2]["p_analytic"] = tests[-2]["p_value"]
+        tests[-2]["p_value"] = max(tests[-2]["p_value"],
+                                   gumbel_sf(float(drop_o.max() / np.var(r)), drop_n.max(axis=1) / np.var(Rn, axis=1)))
+        tl = _time_line_statistic(rec.time, np.vstack([r[None, :], Rn]))
+        tests[-1]["p_analytic"] = tests[-1]["p_value"]
+        tests[-1]["p_value"] = max(tests[-1]["p_value"], gumbel_sf(float(tl[0]), tl[1:]))
     fs = scales["fs"]
     max_lag = max(1, int(round(0.5 * fs)))
     L = min(r.size // 4, int(5 * fs))

@@ -330,16 +330,25 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
         kin_noise *= scale
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     # the shapes a correct model's residual keeps in expectation, which no test may claim: the
-    # kinematics' systematic error (above) and the smoothing's bias, J times the change of the
-    # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by)
+    # kinematics' systematic error (above) and the smoothing's bias, signed, estimated as the
+    # change of the prediction from the window W to 2W-1 (the same estimate the conditioning chose
+    # by), its inertial part (J times the acceleration's change) and its friction part (the model's
+    # friction on the smoother velocity and path) as two columns: the smoothing distorts a and v by
+    # different powers of the window, so their sizes are not tied
     nuisance = [eiv_bias]
     if cond.source != "recording" and 2 * cond.window - 1 < rec.n // 2:
+        from ._calibrate import _as_kin
         from ._condition import conditioned_kinematics
 
         rin = prep.rec_in
-        a2 = conditioned_kinematics(rin.time, rin.position, rin.velocity, cond.source, 2 * cond.window - 1,
-                                    cond.order)[1]
-        nuisance.append(np.where(split.keep, float(base.J) * (a_m - a2), 0.0))
+        v2, a2, th2 = conditioned_kinematics(rin.time, rin.position, rin.velocity, cond.source,
+                                             2 * cond.window - 1, cond.order)
+        inertial = float(base.J) * (a_m - a2)
+        th2 = th2 if prep.path == "complementary" else np.asarray(kin.theta)
+        total = M.predict(base, kin) - M.predict(base, _as_kin(kin, (v2, a2, th2)))
+        nuisance.append(np.where(split.keep, inertial, 0.0))
+        if np.all(np.isfinite(total)):
+            nuisance.append(np.where(split.keep, np.asarray(total) - inertial, 0.0))
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
@@ -363,9 +372,12 @@ def _filter_lags(prep: Prepared) -> int:
     return cond.window + 2 if cond.source != "recording" else 0
 
 
-def _locate(prep, split, floor, model, r, alpha, filter_lags, at_floor: bool):
-    loc = L.locate(prep.rec, r, split.blocks, floor.scales, alpha, filter_lags, split.keep,
-                   _friction(model, prep.kin), known=floor.known)
+def _locate(prep, split, floor, cfg, model, r, filter_lags, at_floor: bool):
+    from ._calibrate import null_draws
+
+    draws = null_draws(model, prep.kin, floor.null, cfg.null_draws, cfg.seed + 2000)
+    loc = L.locate(prep.rec, r, split.blocks, floor.scales, cfg.alpha_locate, filter_lags, split.keep,
+                   _friction(model, prep.kin), known=floor.known, null=draws)
     return _mismatch(loc, at_floor)
 
 
@@ -511,9 +523,9 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     tau = np.asarray(prep.rec.torque)
     base, kin = prep.base, prep.kin
     r0 = (tau - M.predict(base, kin)) * split.keep
-    loc0 = _locate(prep, split, floor, base, r0, cfg.alpha_locate, flags, floor.ratio <= cfg.at_floor)
+    loc0 = _locate(prep, split, floor, cfg, base, r0, flags, floor.ratio <= cfg.at_floor)
     current, r_cur, accepted, log = _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress)
-    loc_cur = (_locate(prep, split, floor, current, r_cur, cfg.alpha_locate, flags,
+    loc_cur = (_locate(prep, split, floor, cfg, current, r_cur, flags,
                        _val_rmse(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
     attribution = _attribute(prep, split, floor, cfg, current, r_cur, fit_offset, frozen)
     return _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
