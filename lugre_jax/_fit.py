@@ -101,17 +101,64 @@ class LogTransform(AbstractTransform):
         return jnp.log(x)
 
 
+class LossStop(optx.AbstractLeastSquaresSolver):
+    """Levenberg-Marquardt (``optimistix.LevenbergMarquardt(rtol, atol)``) that also stops when an
+    accepted step lowers the loss by less than ``ftol`` times it (scipy's ``ftol`` test). For
+    objectives with flat valleys, where the Cauchy test on the parameters' steps does not end while
+    the loss no longer changes."""
+
+    rtol: float
+    atol: float
+    ftol: float
+    norm: Callable = eqx.field(static=True, default=optx.max_norm)
+
+    @property
+    def _inner(self):
+        return optx.LevenbergMarquardt(rtol=self.rtol, atol=self.atol, norm=self.norm)
+
+    def init(self, fn, y, args, options, f_struct, aux_struct, tags):
+        return self._inner.init(fn, y, args, options, f_struct, aux_struct, tags), jnp.array(False)
+
+    def step(self, fn, y, args, options, state, tags):
+        inner, _ = state
+        y, new, aux = self._inner.step(fn, y, args, options, inner, tags)
+        before = 0.5 * jnp.sum(inner.f_info.residual**2)
+        after = 0.5 * jnp.sum(new.f_info.residual**2)
+        # the first accepted step only evaluates the start: no decrease to judge
+        judged = (new.num_accepted_steps > inner.num_accepted_steps) & (inner.num_accepted_steps >= 1)
+        return y, (new, judged & (before - after <= self.ftol * before)), aux
+
+    def terminate(self, fn, y, args, options, state, tags):
+        inner, small = state
+        done, result = self._inner.terminate(fn, y, args, options, inner, tags)
+        return done | small, result
+
+    def postprocess(self, fn, y, aux, args, options, state, tags, result):
+        return self._inner.postprocess(fn, y, aux, args, options, state[0], tags, result)
+
+
 def least_squares(residual_fn: ResidualFn, x0: Float[Array, " p"], transform: AbstractTransform, *,
                   rtol: float = 1e-10, atol: float = 1e-12, max_steps: int = 200,
-                  jac: str | None = None) -> tuple[Float[Array, " p"], optx.Solution]:
+                  jac: str | None = None, ftol: float | None = None,
+                  jac_scale: bool = False) -> tuple[Float[Array, " p"], optx.Solution]:
     """Levenberg-Marquardt on ``u = transform.from_box(x0)``; returns ``(x, solution)`` with
     ``x = transform.to_box(solution.value)`` and the solver's ``result``/``stats``. ``jac="fwd"``
-    asks optimistix for a forward-mode Jacobian (cheaper through a long ``lax.scan``). Jittable."""
-    fn = lambda u, _: residual_fn(transform.to_box(u))  # noqa: E731
+    asks optimistix for a forward-mode Jacobian (cheaper through a long ``lax.scan``); ``ftol``
+    adds the loss-decrease stop of :class:`LossStop`. ``jac_scale=True`` solves in ``w = d*u`` with
+    ``d`` the column norms of the Jacobian at the start, so that the solver's damping (a multiple of
+    the identity) weighs every parameter by its effect on the residuals (scipy's ``x_scale="jac"``,
+    from the start only); ``solution.value`` is then ``w``. Jittable."""
+    u0 = transform.from_box(x0)
+    if jac_scale:
+        d = jnp.linalg.norm(jax.jacfwd(lambda u: residual_fn(transform.to_box(u)))(u0), axis=0)
+        d = jnp.where(d > 0, d, 1.0)
+    else:
+        d = jnp.ones_like(u0)
+    fn = lambda w, _: residual_fn(transform.to_box(w / d))  # noqa: E731
     options = {} if jac is None else dict(jac=jac)
-    sol = optx.least_squares(fn, optx.LevenbergMarquardt(rtol=rtol, atol=atol), transform.from_box(x0),
-                             options=options, max_steps=max_steps, throw=False)
-    return transform.to_box(sol.value), sol
+    solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol) if ftol is None else LossStop(rtol, atol, ftol)
+    sol = optx.least_squares(fn, solver, u0 * d, options=options, max_steps=max_steps, throw=False)
+    return transform.to_box(sol.value / d), sol
 
 
 def jacobian(residual_fn: ResidualFn, x) -> np.ndarray:
@@ -212,10 +259,12 @@ class Fit:
 
 def fit(residual_fn: ResidualFn, x0, lower=None, upper=None, *, transform: AbstractTransform | None = None,
         absolute_sigma: bool = False, variance_floor: float = 0.0, rtol: float = 1e-10, atol: float = 1e-12,
-        max_steps: int = 200, jac: str | None = None) -> Fit:
+        max_steps: int = 200, jac: str | None = None, ftol: float | None = None, jac_scale: bool = False) -> Fit:
     """Fit ``residual_fn`` from ``x0`` within ``[lower, upper]`` (default unbounded) and estimate the
     covariance there (see the module doc). ``transform`` defaults to ``BoxTransform(lower, upper)``;
-    pass ``LogTransform()`` for positive parameters of unknown scale."""
+    pass ``LogTransform()`` for positive parameters of unknown scale. ``ftol``: also stop when an
+    accepted step lowers the loss by less than ``ftol`` times it (:class:`LossStop`); ``jac_scale``:
+    see :func:`least_squares`."""
     x0 = jnp.asarray(x0, dtype=jnp.float64)
     p = x0.shape[-1]
     lo = jnp.full(p, -jnp.inf) if lower is None else jnp.asarray(lower, dtype=jnp.float64)
@@ -223,7 +272,8 @@ def fit(residual_fn: ResidualFn, x0, lower=None, upper=None, *, transform: Abstr
     if transform is None:
         transform = BoxTransform(lo, hi)
         x0 = jnp.clip(x0, lo, hi)
-    x, sol = least_squares(residual_fn, x0, transform, rtol=rtol, atol=atol, max_steps=max_steps, jac=jac)
+    x, sol = least_squares(residual_fn, x0, transform, rtol=rtol, atol=atol, max_steps=max_steps, jac=jac,
+                           ftol=ftol, jac_scale=jac_scale)
     x = np.asarray(x)
     r = np.asarray(residual_fn(jnp.asarray(x)))
     cov = covariance(jacobian(residual_fn, x), r, absolute_sigma=absolute_sigma, variance_floor=variance_floor,

@@ -377,7 +377,7 @@ def test_cli_validate_path_end_to_end(tmp_path):
     j = json.loads((out / "RESULT.json").read_text())
     sm = j["summary"]
     nc = sm["convergence"]["not_converged"]
-    assert any("benchmark" in w and "step limit: 2 of 2 evaluations" in w for w in warn), r.stderr
+    assert any("benchmark" in w and "step limit: 2 of 2 steps" in w for w in warn), r.stderr
     assert len(warn) == len(nc) >= 1 and not sm["convergence"]["all_converged"]
     assert {f["status"] for f in sm["convergence"]["fits"]} <= {"converged", "step limit"}
     assert sm["pulses"]["established"] and sm["pulses"]["entry"]["location"] == "plant"

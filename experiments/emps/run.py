@@ -36,7 +36,7 @@ def table(report_json: dict) -> str:
     runs_order = ["estimation", "held_out"] + (["validation"] if report_json["validation"] else [])
     pulses = report_json["validation_has_pulses"]
     rows = ["| model | run | closed loop: position % | velocity % | force % "
-            "| protocol (vir alone): RMSE mm | R² | fit index % | fits: evaluations, status (closed loop / protocol) |",
+            "| protocol (vir alone): RMSE mm | R² | fit index % | fits: steps, status (closed loop / protocol) |",
             "|---|---|---|---|---|---|---|---|---|"]
     p = pub["closed_loop_estimation"]
     rows.append(f"| published IDIM-LS model, published (Simulink) | estimation | {p['position_pct']} | "
@@ -49,7 +49,7 @@ def table(report_json: dict) -> str:
                for k, v in ref.items()]
     for name, m in report_json["models"].items():
         a, b = m["closed_loop_fit"], m["benchmark_fit"]
-        ft = f"{a['evaluations']} {a['status']} / {b['evaluations']} {b['status']}"
+        ft = f"{a['steps']} {a['status']} / {b['steps']} {b['status']}"
         entries.append((f"{name} ({m['n_physical_parameters']} parameters)", m["runs"], ft))
     for name, runs, ft in entries:
         for r in runs_order:

@@ -48,7 +48,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--segment-len", type=int, default=None,
                    help="samples per shooting segment (default: the segments tile the training part)")
     p.add_argument("--max-steps", type=int, default=200,
-                   help="residual evaluations allowed per least-squares fit (default 200; a fit that "
+                   help="Levenberg-Marquardt steps allowed per least-squares fit (default 200; a fit that "
                         "reaches the limit is reported on stderr and in RESULT.json's summary)")
     add_quiet(p, "progress output")
 

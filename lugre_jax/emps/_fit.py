@@ -12,25 +12,26 @@ Two protocols, two objectives:
   vmapped; residual = simulated minus measured position. The protocol scores a long free run, so
   few long windows (default 4 tiling the data) fit it better than many short ones.
 
-Parameters are mapped to their declared bounds by a logistic transform; the fit is scipy's
-trust-region ``least_squares`` (``trf``, Jacobian-scaled steps) on the jitted residual and its
-forward-mode Jacobian (a dozen parameters against ~10^4 residuals).
-Standard errors from the Fisher information at the optimum, ``s^2 (J^T J)^-1`` in physical units
-with ``s^2 = r^T r/(N - p)``: residuals of a simulation are autocorrelated, so these are lower
-bounds on the true uncertainty.
+The fit is the package's bounded least squares (:func:`lugre_jax._fit.fit`): Levenberg-Marquardt
+(optimistix) on the jitted residual with a forward-mode Jacobian (a dozen parameters against ~10^4
+residuals), parameters mapped to their declared bounds by a logistic transform. Standard errors
+from the Gauss-Newton covariance at the optimum, ``s^2 (J^T J)^-1`` in physical units with
+``s^2 = r^T r/(N - p)`` (:func:`lugre_jax._fit.covariance`: ``inf`` for a parameter on its bound
+or along a direction the data do not inform): residuals of a simulation are autocorrelated, so
+these are lower bounds on the true uncertainty.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import time
-from typing import Callable
 
 import jax
 import jax.numpy as jnp
 import numpy as np
-from scipy.optimize import least_squares
+import optimistix as optx
 
+from .. import _fit
 from ..io import EmpsRun
 from ._idim import N_BORDER, filtered_kinematics, sample_period
 from ._models import AbstractEmpsModel
@@ -38,44 +39,58 @@ from ._pulses import IGNORED, PulseEntry
 from ._simulate import AbstractStepping, closed_loop, fit_stepping, open_loop
 
 
-#: Termination of the fits (scipy's ``least_squares``): ``rtol`` is its ``ftol``, converged when a
-#: step lowers the sum of squares by less than 1e-5 of it, far below the sum's own sampling spread
-#: (at least ~sqrt(2/N), 1e-2 for 10^4 residuals, more as they are autocorrelated); ``atol`` its
-#: ``xtol`` and ``gtol``. Under the protocol the objective has flat valleys (docs/emps.md) where a
-#: step test on the parameters never ends.
+#: Termination of the fits: converged when an accepted step lowers the sum of squares by less than
+#: ``FIT_RTOL`` of it (:class:`lugre_jax._fit.LossStop`), far below the sum's own sampling spread (at
+#: least ~sqrt(2/N), 1e-2 for 10^4 residuals, more as they are autocorrelated), or when it changes
+#: every unconstrained parameter and every residual by less than ``FIT_ATOL + FIT_RTOL`` times its
+#: size (optimistix's Cauchy test). Under the protocol the objective has flat valleys (docs/emps.md)
+#: where a test on the parameters' steps alone never ends.
 FIT_RTOL, FIT_ATOL = 1e-5, 1e-8
-#: Residual evaluations allowed per fit (the default runs converge well inside it; docs/emps.md).
+#: Levenberg-Marquardt steps allowed per fit (the default runs converge well inside it; docs/emps.md).
 FIT_MAX_STEPS = 200
 
 
 @dataclasses.dataclass(frozen=True)
 class FitResult:
-    """A fitted model, its standard errors (name -> value, physical units), the final objective
-    (sum of squared residuals), residual evaluations (``n_steps``), wall time, whether the solver
-    converged and why not:
-    ``status`` is ``"converged"``, ``"step limit"`` (stopped at ``max_steps``) or ``"failed"``."""
+    """A fitted model, its standard errors (name -> value, physical units; 0 for a parameter held
+    fixed), the final objective ``loss`` (sum of squared residuals), the solver's steps
+    (``n_steps``), wall time and the solver's ``result`` (an ``optimistix.RESULTS`` item).
+    ``status`` names it: ``"converged"``, ``"step limit"`` (stopped at ``max_steps``) or
+    ``"failed"`` (any other result, or a simulation that is not finite at the estimate)."""
 
     model: AbstractEmpsModel
     std: dict
     loss: float
     n_steps: int
     time_s: float
-    success: bool
+    result: optx.RESULTS
     protocol: str
-    status: str = "converged"
     max_steps: int = FIT_MAX_STEPS
+    finite: bool = True
+
+    @property
+    def status(self) -> str:
+        if self.finite and self.result == optx.RESULTS.successful:
+            return "converged"
+        if self.finite and self.result == optx.RESULTS.nonlinear_max_steps_reached:
+            return "step limit"
+        return "failed"
+
+    @property
+    def success(self) -> bool:
+        return self.status == "converged"
 
     @property
     def converged(self) -> bool:
-        return self.status == "converged"
+        return self.success
 
     def to_json(self) -> dict:
         units = type(self.model).units()
         jn = type(self.model).json_names
         return {"protocol": self.protocol, "params": self.model.to_dict(), "std": dict(self.std),
                 "units": {jn.get(k, k): u for k, u in units.items()}, "loss": self.loss,
-                "evaluations": self.n_steps, "max_evaluations": self.max_steps, "fit_time_s": self.time_s,
-                "success": self.success, "status": self.status}
+                "steps": self.n_steps, "max_steps": self.max_steps, "fit_time_s": self.time_s,
+                "result": _fit.result_name(self.result), "status": self.status}
 
 
 class RunArrays:
@@ -99,15 +114,6 @@ class RunArrays:
         return x0, hist
 
 
-def _to_params(theta, lo, hi):
-    return lo + (hi - lo) * jax.nn.sigmoid(theta)
-
-
-def _to_theta(p, lo, hi):
-    u = np.clip((np.asarray(p) - lo) / (hi - lo), 1e-6, 1 - 1e-6)
-    return np.log(u) - np.log1p(-u)
-
-
 def closed_loop_window(model, data: RunArrays, start: int, stop: int, *, pulses: PulseEntry = IGNORED,
                        stepping: AbstractStepping | None = None):
     """Closed-loop simulation of samples ``start:stop`` from the measured state at ``start``:
@@ -121,63 +127,43 @@ def closed_loop_window(model, data: RunArrays, start: int, stop: int, *, pulses:
     return q, v, r.gtau * vir, ok
 
 
-def _lm(residual, model0: AbstractEmpsModel, max_steps: int, rtol: float, atol: float,
-        progress: Callable[[int], None] | None, fixed: tuple[str, ...] = ()):
+def _least_squares(residual, model0: AbstractEmpsModel, max_steps: int, rtol: float, atol: float,
+                   protocol: str, fixed: tuple[str, ...] = ()) -> FitResult:
+    """:func:`lugre_jax._fit.fit` of ``residual(model)`` over the parameters not named in ``fixed``
+    (they keep ``model0``'s values), within the declared bounds."""
     cls = type(model0)
     names_all = cls.names()
     unknown = [n for n in fixed if n not in names_all]
     if unknown:
         raise ValueError(f"fixed: {unknown} are not parameters of {cls.__name__} ({list(names_all)})")
     free = np.array([n not in fixed for n in names_all])
-    lo, hi = (jnp.asarray(b) for b in cls.bounds())
-    full0 = _to_theta(np.asarray(model0.vector()), np.asarray(lo), np.asarray(hi))
-    theta0 = full0[free]
     free_idx = jnp.asarray(np.flatnonzero(free))
+    lo, hi = cls.bounds()
+    p0 = model0.vector()
 
-    def full(theta):
-        return jnp.asarray(full0).at[free_idx].set(theta)
+    def model_of(x):
+        return cls.from_vector(p0.at[free_idx].set(x))
 
-    def raw(theta):
-        r = residual(cls.from_vector(_to_params(full(theta), lo, hi)))
+    def raw(x):
+        r = residual(model_of(x))
         return jnp.where(jnp.isfinite(r), r, 1e3)  # a failed simulation: a large, not NaN, residual
 
-    f, jac = jax.jit(raw), jax.jit(jax.jacfwd(raw))
-
-    def fun(th):
-        if progress is not None:
-            progress(1)
-        return np.asarray(f(jnp.asarray(th)))
-
     t0 = time.perf_counter()
-    sol = least_squares(fun, theta0, jac=lambda th: np.asarray(jac(jnp.asarray(th))), method="trf",
-                        x_scale="jac", ftol=rtol, xtol=atol, gtol=atol, max_nfev=max_steps)
-    theta = full(jnp.asarray(sol.x))
+    fit = _fit.fit(raw, p0[free_idx], np.asarray(lo)[free], np.asarray(hi)[free], rtol=rtol, atol=atol,
+                   max_steps=max_steps, jac="fwd", ftol=rtol, jac_scale=True)
     elapsed = time.perf_counter() - t0
-    p = _to_params(theta, lo, hi)
-    model = cls.from_vector(p)
-    # Fisher information in the free physical parameters, at the optimum (fixed ones: SE 0).
-    J = jax.jacfwd(lambda pp: residual(cls.from_vector(pp)))(p)[:, free_idx]
-    r = residual(model)
-    n, k = J.shape
-    s2 = float(r @ r) / max(n - k, 1)
+    model = model_of(jnp.asarray(fit.params))
+    r = np.asarray(residual(model))
     se = np.zeros(len(names_all))
-    try:
-        cov = s2 * np.linalg.inv(np.asarray(J.T @ J))
-        se[free] = np.sqrt(np.clip(np.diag(cov), 0, None))
-    except np.linalg.LinAlgError:
-        se[free] = np.inf
+    se[free] = fit.standard_errors
     names = [cls.json_names.get(nm, nm) for nm in names_all]
-    finite = bool(np.all(np.isfinite(np.asarray(r))))
-    ok = sol.status > 0 and finite
-    n_steps = int(sol.nfev)
-    status = "converged" if ok else "step limit" if (sol.status == 0 and finite) else "failed"
-    return (model, dict(zip(names, map(float, se))), float(r @ r), n_steps, elapsed, ok, status, max_steps)
+    return FitResult(model, dict(zip(names, map(float, se))), float(r @ r), fit.n_steps, elapsed, fit.result,
+                     protocol, max_steps, bool(np.all(np.isfinite(r))))
 
 
 def fit_closed_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: int, *,
                     stepping: AbstractStepping | None = None, max_steps: int = FIT_MAX_STEPS,
-                    rtol: float = FIT_RTOL, atol: float = FIT_ATOL,
-                    progress: Callable[[int], None] | None = None) -> FitResult:
+                    rtol: float = FIT_RTOL, atol: float = FIT_ATOL) -> FitResult:
     """Fit ``model0``'s parameters to samples ``start:stop`` in closed loop (module docstring)."""
     stepping = fit_stepping(model0) if stepping is None else stepping
     s = slice(max(start, N_BORDER) - start, None)
@@ -190,8 +176,7 @@ def fit_closed_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop
         q, v, f, _ = closed_loop_window(model, data, start, stop, stepping=stepping)
         return jnp.concatenate([(f[s] - F) / nF, (q[s] - Q) / nQ, (v[s] - V) / nV])
 
-    model, se, loss, n, el, ok, status, ms = _lm(residual, model0, max_steps, rtol, atol, progress)
-    return FitResult(model, se, loss, n, el, ok, "closed_loop", status, ms)
+    return _least_squares(residual, model0, max_steps, rtol, atol, "closed_loop")
 
 
 def segment_starts(start: int, stop: int, n_segments: int, segment_len: int) -> np.ndarray:
@@ -225,7 +210,7 @@ def fit_open_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: 
                   n_segments: int = 4, segment_len: int | None = None,
                   stepping: AbstractStepping | None = None,
                   max_steps: int = FIT_MAX_STEPS, rtol: float = FIT_RTOL, atol: float = FIT_ATOL,
-                  progress: Callable[[int], None] | None = None, fixed: tuple[str, ...] = ()) -> FitResult:
+                  fixed: tuple[str, ...] = ()) -> FitResult:
     """Truncated-simulation-error fit for the benchmark protocol (module docstring); residual in mm.
     ``segment_len`` defaults to tiling ``start:stop`` with the ``n_segments`` windows; parameters
     named in ``fixed`` keep ``model0``'s values."""
@@ -240,5 +225,5 @@ def fit_open_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: 
         q, _ = open_loop_segments(model, data, starts, segment_len, stepping=stepping)
         return 1e3 * (q - Y).ravel()
 
-    model, se, loss, n, el, ok, status, ms = _lm(residual, model0, max_steps, rtol, atol, progress, fixed)
-    return FitResult(model, se, loss, n, el, ok, f"benchmark_truncated_{len(starts)}x{segment_len}", status, ms)
+    return _least_squares(residual, model0, max_steps, rtol, atol,
+                          f"benchmark_truncated_{len(starts)}x{segment_len}", fixed)

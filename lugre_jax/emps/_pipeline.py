@@ -107,7 +107,7 @@ class EmpsReport:
     @property
     def not_converged(self) -> list[str]:
         """One line per fit that did not converge (empty when all did)."""
-        return [f"{k}: {f.protocol} fit did not converge ({f.status}: {f.n_steps} of {f.max_steps} evaluations)"
+        return [f"{k}: {f.protocol} fit did not converge ({f.status}: {f.n_steps} of {f.max_steps} steps)"
                 for k, f in self.fits if not f.converged]
 
     @property
@@ -160,7 +160,7 @@ class EmpsReport:
             "variants": variants,
             "convergence": {"all_converged": not nc, "n_fits": len(self.fits), "not_converged": nc,
                             "fits": [{"model": k, "protocol": f.protocol, "status": f.status,
-                                      "evaluations": f.n_steps, "max_evaluations": f.max_steps,
+                                      "steps": f.n_steps, "max_steps": f.max_steps, "result": f.to_json()["result"],
                                       "fit_time_s": f.time_s} for k, f in self.fits]},
         }
 
@@ -312,7 +312,7 @@ def identify_emps(run: EmpsRun, validation: EmpsRun | None = None, *,
             done += 1
             if say:
                 eta = (time.perf_counter() - t_fits) / done * (n_total - done)
-                say(f"[{done}/{n_total}] {cls.label}: {kind} fit {fr.time_s:.0f} s, {fr.n_steps} evaluations, "
+                say(f"[{done}/{n_total}] {cls.label}: {kind} fit {fr.time_s:.0f} s, {fr.n_steps} steps, "
                     f"{fr.status}; elapsed {_clock(time.perf_counter() - t_start)}, ETA {_clock(eta)}")
         reports[cls.label] = ModelReport(cls.label, fits[0], fits[1], _scores(fits[0].model, est, cut, val, pulses),
                                          _bench(fits[1].model, est, cut, val, pulses))
