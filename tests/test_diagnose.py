@@ -248,7 +248,8 @@ def test_csv_roundtrip_and_cli_error_exit(tmp_path, capsys):
 
 
 def test_emps_loader_reproduces_benchmark_idim(request):
-    from lugre_jax.io._emps import default_emps_path, emps_idim_ls, load_emps
+    from lugre_jax.emps import idim_ls, read_emps_mat
+    from lugre_jax.io._emps import default_emps_path, load_emps
 
     path = Path(request.config.rootpath) / default_emps_path()
     if not path.exists():
@@ -256,7 +257,7 @@ def test_emps_loader_reproduces_benchmark_idim(request):
     rec = load_emps(path)
     assert rec.units["position"] == "m" and rec.units["torque"] == "N"
     assert rec.n == 2480
-    fit = emps_idim_ls(rec)["params"]
+    fit = idim_ls(read_emps_mat(path)).params
     # published: M = 95.1089 kg, Fv = 203.5034 N*s/m, Fc = 20.3935 N, offset = -3.1648 N
     assert abs(fit["M"] / 95.1089 - 1) < 0.01
     assert abs(fit["Fv"] / 203.5034 - 1) < 0.03

@@ -10,8 +10,10 @@
 5. ``Beta = X\\y`` by least squares; relative error ``100*norm(y - X*Beta)/norm(y)``; standard
    deviations ``std(err)*sqrt(diag(inv(X'X)))``.
 
-Decimating ``sign(dq)`` rather than taking the sign of the decimated velocity matters: the latter
-gives 4.84 % instead of the published 4.08 %.
+Decimating ``sign(dq)`` rather than taking the sign of the decimated velocity matters: the
+decimated column passes through zero over a few samples at a reversal, as the filtered force does,
+while the sign of the decimated velocity jumps (docs/emps.md: 5.96 % instead of the published 4.08 %).
+This is the package's only IDIM-LS; ``lugre_jax.io`` only reads the file.
 """
 
 from __future__ import annotations

@@ -23,7 +23,6 @@ from ._emps import (
     SI_UNITS as SI_UNITS,
     EmpsRun as EmpsRun,
     default_emps_path as default_emps_path,
-    emps_idim_ls as emps_idim_ls,
     load_emps as load_emps,
     read_emps_mat as read_emps_mat,
 )

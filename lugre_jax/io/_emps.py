@@ -18,13 +18,11 @@ Preprocessing reproduces the benchmark's IDIM-LS script step by step:
    anti-alias filter applied forward-backward (``decimate``; scipy's ``decimate(x, 10)`` is the same
    filter and phase; the picked sample phase may differ from MATLAB's by a few samples).
 
-The benchmark's relative error is ``100*norm(y - y_hat)/norm(y)`` on these decimated samples
-(``y`` = decimated force), with the model fitted on all of them.
-
 :func:`read_emps_mat` is the strict raw reader (1 kHz columns, no preprocessing) used by
-:mod:`lugre_jax.emps`, which also has the script-exact IDIM-LS (the observation matrix, including
-``sign(dq)``, is built at 1 kHz and then decimated column by column, as the MATLAB script does;
-:func:`emps_idim_ls` here takes ``sign`` of the decimated velocity instead, hence its 4.84 %).
+:mod:`lugre_jax.emps`, which holds the IDIM-LS (``lugre_jax.emps.idim_ls``, script-exact: the
+observation matrix, including ``sign(dq)``, is built at 1 kHz and then decimated column by column,
+as the MATLAB script does). :func:`load_emps` is for tools that take a :class:`Recording`
+(``diagnose``).
 """
 
 from __future__ import annotations
@@ -209,23 +207,3 @@ def load_emps(path: str | os.PathLike, decimate: bool = True) -> Recording:
                           "drop 49 samples, decimate 10 (Chebyshev-I, zero-phase)" if decimate else
                           "filtfilt butter(4,100Hz), central differences, drop 49 samples"},
     )
-
-
-def emps_idim_ls(rec: Recording, asymmetric: bool = False) -> dict:
-    """The benchmark's own IDIM-LS fit on ``rec``: returns params, prediction and relative error [%].
-
-    Symmetric: ``y = M*ddq + Fv*dq + Fc*sign(dq) + offset``; asymmetric: separate Fv, Fc per direction
-    (plus offset).
-    """
-    dq, ddq, y = rec.velocity, rec.acceleration, rec.torque
-    if asymmetric:
-        pos, neg = (dq > 0).astype(float), (dq < 0).astype(float)
-        X = np.column_stack([ddq, dq * pos, pos, dq * neg, -neg, np.ones_like(dq)])
-        names = ["M", "Fv+", "Fc+", "Fv-", "Fc-", "offset"]
-    else:
-        X = np.column_stack([ddq, dq, np.sign(dq), np.ones_like(dq)])
-        names = ["M", "Fv", "Fc", "offset"]
-    beta, *_ = np.linalg.lstsq(X, y, rcond=None)
-    yhat = X @ beta
-    return {"params": dict(zip(names, beta.tolist())), "prediction": yhat,
-            "rel_err_pct": float(100 * np.linalg.norm(y - yhat) / np.linalg.norm(y))}
