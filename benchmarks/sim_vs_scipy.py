@@ -1,6 +1,7 @@
 """The batched simulator against a careful user's scipy loop, at matched accuracy (issue #33's table).
 
-    python benchmarks/sim_vs_scipy.py [--lanes 2000] [--scipy-lanes 20] [--tight-lanes N]
+    python benchmarks/sim_vs_scipy.py [--lanes 2000] [--scipy-lanes 20] [--tight-lanes N] [--stiff]
+                                      [--rows default,lane,bosh3,tsit5,exp,exp5]
                                       [--out benchmarks/results/sim_vs_scipy_2000.json]
 
 The scenario: the paper's joint (J 0.128, segment 1 of Tables 1-2) under velocity PI (kp 8, ki 60),
@@ -12,6 +13,11 @@ tight solve (``Adaptive(Tsit5(), rtol=1e-11, atol=1e-13)``, itself checked again
 rtol 1e-11 in tests/test_simulate_reference.py) on ``--tight-lanes`` lanes spread over the batch
 (default: all). Batched rows are timed as the best of two calls after compilation, in this process,
 through the public API only. Prints one line per row and writes the JSON.
+
+``--stiff``: stiff bristles instead, sigma0 drawn in [1e3, 1e4] N*m/deg and sigma1 in [2.3, 30]
+N*m*s/deg per lane (sigma0*|v|/g(v) up to ~5e3 1/s at 0.5 deg/s); the tight solve is then
+``Adaptive(Kvaerno5(), rtol=1e-10, atol=1e-12)`` (implicit: Tsit5 at rtol 1e-11 takes too many
+steps on these lanes) and the scipy loop is the same LSODA loop (it switches to BDF where stiff).
 """
 
 from __future__ import annotations
@@ -33,27 +39,32 @@ LEVELS, DWELL, DURATION, HZ = (0.02, 0.1, -0.05, 0.5), 5.0, 20.0, 100.0
 KP, KI = 8.0, 60.0
 
 
-def draw(lanes: int, seed: int = 0):
+def draw(lanes: int, seed: int = 0, stiff: bool = False):
+    """``(Fs, sigma0, sigma1)`` per lane; ``sigma1`` is the paper's unless ``stiff``."""
     rng = np.random.default_rng(seed)
-    return rng.uniform(3.0, 8.0, lanes), rng.uniform(50.0, 200.0, lanes)
+    Fs = rng.uniform(3.0, 8.0, lanes)
+    if not stiff:
+        return Fs, rng.uniform(50.0, 200.0, lanes), np.full(lanes, float(lj.paper_segment(1).sigma1))
+    return Fs, rng.uniform(1e3, 1e4, lanes), rng.uniform(2.3, 30.0, lanes)
 
 
-def batch(Fs, sigma0):
+def batch(Fs, sigma0, sigma1):
     import equinox as eqx
     import jax.numpy as jnp
 
     one = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=lj.PAPER_J),
                     controller=lj.VelocityPID(kp=KP, ki=KI), reference=lj.VelocitySteps(list(LEVELS), dwell_s=DWELL))
     sys_b = lj.broadcast_system(one, len(Fs))
-    return eqx.tree_at(lambda s: (s.friction.Fs, s.friction.sigma0), sys_b, (jnp.asarray(Fs), jnp.asarray(sigma0)))
+    return eqx.tree_at(lambda s: (s.friction.Fs, s.friction.sigma0, s.friction.sigma1), sys_b,
+                       (jnp.asarray(Fs), jnp.asarray(sigma0), jnp.asarray(sigma1)))
 
 
-def scipy_loop(Fs: float, sigma0: float, rtol=1e-6, atol=1e-9, method="LSODA"):
+def scipy_loop(Fs: float, sigma0: float, s1: float, rtol=1e-6, atol=1e-9, method="LSODA"):
     """One lane as a careful scipy user solves it: restarted at each step of the staircase."""
     from scipy.integrate import solve_ivp
 
     seg = lj.paper_segment(1)
-    Fc, vs, s1, s2 = (float(seg.Fc), float(seg.vs), float(seg.sigma1), float(seg.sigma2))
+    Fc, vs, s2 = (float(seg.Fc), float(seg.vs), float(seg.sigma2))
     J = lj.PAPER_J
 
     def make(v_ref):
@@ -92,27 +103,34 @@ def main(argv=None):
     ap.add_argument("--lanes", type=int, default=2000)
     ap.add_argument("--scipy-lanes", type=int, default=20)
     ap.add_argument("--tight-lanes", type=int, default=None, help="lanes scored against the tight solve")
-    ap.add_argument("--rows", default="default,lane,bosh3", help="batched rows to run (also: adaptive)")
+    ap.add_argument("--rows", default="default,lane,bosh3,tsit5,exp,exp5",
+                    help="batched rows to run (also: adaptive, exp1)")
+    ap.add_argument("--stiff", action="store_true", help="stiff bristles: sigma0 in [1e3, 1e4], sigma1 in [2.3, 30]")
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
     lj.configure(host_devices=2)
     import diffrax
     import jax
 
-    Fs, sigma0 = draw(a.lanes)
-    system = batch(Fs, sigma0)
+    Fs, sigma0, sigma1 = draw(a.lanes, stiff=a.stiff)
+    system = batch(Fs, sigma0, sigma1)
     n_tight = a.lanes if a.tight_lanes is None else min(a.tight_lanes, a.lanes)
     picked = np.unique(np.linspace(0, a.lanes - 1, n_tight).round().astype(int))
     t0 = time.perf_counter()
-    tight = np.asarray(lj.simulate(batch(Fs[picked], sigma0[picked]), DURATION, HZ, batched=True,
-                                   stepping=lj.Adaptive(rtol=1e-11, atol=1e-13)).theta)
+    tight_stepping = (lj.Adaptive(diffrax.Kvaerno5(), rtol=1e-10, atol=1e-12, max_steps=1_000_000) if a.stiff
+                      else lj.Adaptive(rtol=1e-11, atol=1e-13))
+    tight_sol = lj.simulate(batch(Fs[picked], sigma0[picked], sigma1[picked]), DURATION, HZ, batched=True,
+                            stepping=tight_stepping)
+    if not np.all(np.asarray(tight_sol.result) == lj.RESULT_OK):
+        raise SystemExit("the tight solve failed on some lanes")
+    tight = np.asarray(tight_sol.theta)
     tight_s = time.perf_counter() - t0
     print(f"tight solve of {len(picked)} lanes: {tight_s:.1f} s", flush=True)
 
     rows = []
     sl = picked[np.unique(np.linspace(0, len(picked) - 1, min(a.scipy_lanes, len(picked))).round().astype(int))]
     t = time.perf_counter()
-    errs = [np.max(np.abs(scipy_loop(Fs[i], sigma0[i]) - tight[np.searchsorted(picked, i)])) for i in sl]
+    errs = [np.max(np.abs(scipy_loop(Fs[i], sigma0[i], sigma1[i]) - tight[np.searchsorted(picked, i)])) for i in sl]
     per = (time.perf_counter() - t) / len(sl)
     rows.append(dict(row="scipy loop (LSODA rtol 1e-6 atol 1e-9, restarted per step)", per_solve_ms=1e3 * per,
                      speedup=1.0, max_err_deg=float(max(errs)), lanes_scored=len(sl)))
@@ -121,7 +139,14 @@ def main(argv=None):
     choices = {"default": ("lj.simulate(..., batched=True), no stepping given", None),
                "adaptive": ("Adaptive() (Tsit5, rtol 1e-8, atol 1e-10)", lj.Adaptive()),
                "bosh3": ("FixedStep(Bosh3(), dt=0.005)", lj.FixedStep(diffrax.Bosh3(), dt=0.005)),
-               "lane": ("LaneAdaptive() (Tsit5, rtol 1e-6, atol 1e-9)", lj.LaneAdaptive())}
+               "lane": ("LaneAdaptive() (Tsit5, rtol 1e-6, atol 1e-9)", lj.LaneAdaptive()),
+               "tsit5": ("FixedStep(Tsit5(), dt=0.0025)", lj.FixedStep(diffrax.Tsit5(), dt=0.0025)),
+               "exp": ("ExponentialBristle(Tsit5(), dt=0.0025)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.0025)),
+               "exp5": ("ExponentialBristle(Tsit5(), dt=0.005)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.005)),
+               "exp1": ("ExponentialBristle(Tsit5(), dt=0.001)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.001)),
+               "tsit1": ("FixedStep(Tsit5(), dt=0.001)", lj.FixedStep(diffrax.Tsit5(), dt=0.001)),
+               "exp05": ("ExponentialBristle(Tsit5(), dt=0.0005)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.0005)),
+               "tsit05": ("FixedStep(Tsit5(), dt=0.0005)", lj.FixedStep(diffrax.Tsit5(), dt=0.0005))}
     for key in a.rows.split(","):
         label, stepping = choices[key]
         t = time.perf_counter()
@@ -130,7 +155,9 @@ def main(argv=None):
         first = time.perf_counter() - t
         wall = timed(lambda: jax.block_until_ready(lj.simulate(system, DURATION, HZ, batched=True,
                                                                stepping=stepping).theta))
+        # a lane that blew up counts as infinitely far (never as within tolerance)
         err = np.max(np.abs(theta[picked] - tight), axis=1)
+        err = np.where(np.isfinite(err) & (np.asarray(sol.result)[picked] == lj.RESULT_OK), err, np.inf)
         ok = int(np.sum(np.asarray(sol.result) == lj.RESULT_OK))
         rows.append(dict(row=label, per_solve_ms=1e3 * wall / a.lanes, speedup=per / (wall / a.lanes),
                          max_err_deg=float(err.max()), median_err_deg=float(np.median(err)),
@@ -141,10 +168,13 @@ def main(argv=None):
               f"{r['max_err_deg']:.1e} deg ({r['lanes_within_2e6']}/{len(picked)} lanes <= 2e-6)  "
               f"call {wall:.2f} s (first {first:.1f} s)", flush=True)
     result = dict(command="python benchmarks/sim_vs_scipy.py " + " ".join(argv or []), lanes=a.lanes,
+                  scenario="stiff: sigma0 in [1e3, 1e4], sigma1 in [2.3, 30]" if a.stiff else
+                  "sigma0 in [50, 200], sigma1 2.3042 (paper segment 1)",
                   device=f"{jax.devices()[0].platform}: {platform.processor() or platform.machine()}, "
                          f"{os.cpu_count()} cores, {len(jax.devices())} XLA devices",
                   jax=jax.__version__, loadavg=os.getloadavg(), tight_s=tight_s, rows=rows)
-    out = Path(a.out or ROOT / "benchmarks" / "results" / f"sim_vs_scipy_{a.lanes}.json")
+    out = Path(a.out or ROOT / "benchmarks" / "results" /
+               f"sim_vs_scipy_{'stiff_' if a.stiff else ''}{a.lanes}.json")
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(result, indent=1))
     print(out)

@@ -46,7 +46,8 @@ def rk_step(tableau, f, t, y, h, k0, bristle=None):
         # The solver's own stage where the bristle is not stiff (x = q*tau << 1: it keeps the
         # solver's order there), the exact update where it is; blended smoothly in between.
         x2 = x * x
-        w = -jnp.expm1(-x2 * x2)
+        x4 = x2 * x2
+        w = x4 / (1.0 + x4)
         z = out[2] + w * (z - out[2])
         omega = y[1] + h * sum(c * m for c, m in zip(coeffs, ms) if c != 0) - s1 * (z - y[2]) * bristle.inv_J
         return (out[0], omega, z) + out[3:]
@@ -94,8 +95,10 @@ class _Bristle:
         # phi1(x) = (1 - exp(-x))/x, its series below 1e-8 (no 0/0 at rest)
         small = x > 1e-8
         xs = jnp.where(small, x, 1.0)
-        phi = jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
-        return jnp.exp(-x) * z + (p * tau) * phi, self.friction.bristle_damping(v), x
+        em1 = jnp.expm1(-xs)  # one transcendental for both exp(-x) and phi1
+        phi = jnp.where(small, -em1 / xs, 1.0 - 0.5 * x)
+        decay = jnp.where(small, 1.0 + em1, 1.0 - x)
+        return decay * z + (p * tau) * phi, self.friction.bristle_damping(v), x
 
     def undamped(self, y, k):
         """The joint's acceleration without the bristle damping's ``sigma1*dz/dt/J``."""
