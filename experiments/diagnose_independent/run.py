@@ -46,6 +46,13 @@ and the floor's ratio to it, and the expected verdict:
     python experiments/diagnose_independent/run.py --study outside --shard 0/2 # and 1/2
     python experiments/diagnose_independent/plot.py --new
 
+Held-out sets for the code as it stands after those studies were used to change it, fixed and
+committed before their first run: ``calib2`` (40 effect-free rows: :func:`calib2_settings`) and
+``fresh4`` (fresh3's effects and nulls on other plants and rates: :func:`fresh4_settings`).
+
+    python experiments/diagnose_independent/run.py --study calib2 --shard 0/2  # and 1/2
+    python experiments/diagnose_independent/run.py --study fresh4 --shard 0/2  # and 1/2
+
 ``--generate-only`` generates and caches a study's recordings and writes what generation shows
 (tracking, the effect's peak against the noise) to ``<out>/design_<study>.jsonl``, without diagnosis.
 
@@ -95,7 +102,9 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPI()), "paper_like": (PAPER_LIKE, T.Vel
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPID.tuned(0.1, 3.0), "paper_like": T.PositionPID.tuned(0.128, 2.5, tf=0.004),
         "medium": T.PositionPID.tuned(0.2, 3.0, tf=0.003), "nimble": T.PositionPID.tuned(0.06, 3.5, tf=0.002),
-        "sluggish": T.PositionPID.tuned(0.25, 2.5, tf=0.005), "middle": T.PositionPID.tuned(0.15, 3.0, tf=0.003)}
+        "sluggish": T.PositionPID.tuned(0.25, 2.5, tf=0.005), "middle": T.PositionPID.tuned(0.15, 3.0, tf=0.003),
+        "light": T.PositionPID.tuned(0.04, 3.5, tf=0.002), "heavy": T.PositionPID.tuned(0.4, 2.5, tf=0.005),
+        "flat": T.PositionPID.tuned(0.08, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -354,6 +363,68 @@ def fresh3_settings():
     return out
 
 
+# calib2's excitations: the six kinds of calib with other parameters
+CALIB2_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.02, 0.07, 0.3, 1.0, 3.0), "dwell": 5.0 if i % 2 else 5.5,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.5 + 0.7 * (i % 3), "f0": 0.04, "f1": 1.6, "duration": 55.0,
+                             "bias": 0.5 + 0.4 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.5, "f0": 0.03, "f1": 1.2 + 0.4 * (i % 3), "n": 9 + 3 * (i % 2),
+                            "duration": 55.0},
+    "position_sine": lambda i: {"amplitude": 3.0 + 3.0 * (i % 3), "frequency": 0.12 + 0.08 * (i % 2),
+                                "duration": 45.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -1.5, 5.0, -0.5, -3.5, 0.0) if i % 2 else (4.0, -2.0, 1.0, -4.0, 2.0),
+                                 "move_time": 1.2 + 0.6 * (i % 2), "dwell": 2.4, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.03, 0.12, 0.6, 2.5, 6.0), "dwell": 2.2, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib2_settings(n: int = 40):
+    """A second effect-free set (issues #30 and #31), fixed and committed before its first run,
+    because calib's rows were used to change the code after calib's first run: the six excitation
+    kinds with other parameters x both loops x the three sensor sets, on three plants calib did not
+    use (LIGHT, HEAVY, FLAT), 120-800 Hz, torque noise 0.04-0.1 N*m, white in half the rows and
+    AR(1) of coefficient 0.45 or 0.7 in the other half, velocity noise 0.002-0.006 deg/s,
+    quantisation 0.0003-0.0015 deg; seeds 7000 + i."""
+    exc = list(CALIB2_EXCITATIONS)
+    sensors = [(True, False), (False, True), (True, True)]
+    plants = ["light", "heavy", "flat"]
+    fs = [120.0, 300.0, 400.0, 600.0, 800.0]
+    tn = [0.04, 0.07, 0.1]
+    ar = [0.0, 0.45, 0.0, 0.7]
+    out = []
+    for i in range(n):
+        e, c, (pcol, vcol) = exc[i % 6], ("pid", "pi")[(i // 6) % 2], sensors[(i // 12) % 3]
+        ctrl = "pid_nff" if c == "pid" and i % 4 == 1 else c
+        out.append({"key": f"calib2_{i:02d}_{e}_{ctrl}", "plant": plants[(i + 2 * (i // 6)) % 3], "controller": ctrl,
+                    "excitation": e, "excitation_kw": CALIB2_EXCITATIONS[e](i), "fs": fs[(2 * i + i // 6) % 5],
+                    "torque_noise": tn[(i + i // 5) % 3], "torque_noise_ar": ar[(i + i // 6) % 4],
+                    "velocity_noise": [0.002, 0.006][(i // 2) % 2] if vcol else 0.0,
+                    "quantisation": [0.0003, 0.0008, 0.0015][(i // 3) % 3] if pcol else 0.0,
+                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": 7000 + i,
+                    "expected": "none"})
+    return out
+
+
+# fresh4: fresh3's recipes on other plants and rates, new seeds (the effects' parameters as fresh3's)
+_F4_PLANT = {"a": "middle", "b": "nimble", "c": "sluggish", "d": "sluggish", "e": "nimble", "f": "middle",
+             "g": "sluggish", "h": "middle", "i": "nimble"}
+_F4_FS = {"a": 200.0, "b": 500.0, "c": 180.0, "d": 800.0, "e": 700.0, "f": 250.0, "g": 300.0, "h": 200.0, "i": 350.0}
+_F4_RECIPES = {k: (_F4_PLANT[k],) + r[1:4] + (_F4_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+
+
+def fresh4_settings():
+    """A fresh set (issue #30), fixed and committed before its first run, because fresh3 was used
+    to change the code: fresh3's 24 effect rows and 8 effect-free rows with each recipe on another
+    plant and sampling rate and new seeds (8000 + k); the effects' parameters as fresh3's, so the
+    effects' peak against the noise is what generation gives on the new plants (reported per row)."""
+    out = [_recipe_job(f"fresh4_null{k:02d}_{r}", r, 8000 + k, [], "none", _F4_RECIPES)
+           for k, r in enumerate(FRESH3_NULL_RECIPES)]
+    out += [_recipe_job(f"fresh4_effect{k:02d}_{eid}_{r}", r, 8100 + k, [(eid, kw)], eid, _F4_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return out
+
+
 # the outside study's recordings (the same plants, other excitations, rates and loops)
 _OUT_RECIPES = {
     "p": ("nimble", "pid", "point_to_point", {"amplitudes": (4.0, -2.0, 5.0, 0.0, -5.0, 1.0), "move_time": 1.5,
@@ -476,6 +547,10 @@ def jobs(study: str, seeds, strengths):
         return fresh3_settings()
     if study == "outside":
         return outside_settings()
+    if study == "calib2":
+        return calib2_settings()
+    if study == "fresh4":
+        return fresh4_settings()
     if study == "null":
         return null_settings()
     if study == "heldout":
@@ -629,7 +704,7 @@ def run_one(job, top_k, cache=None):
     return row
 
 
-NEW_STUDIES = ("calib", "fresh3", "outside")
+NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4")
 
 
 def main():
