@@ -6,7 +6,7 @@ Prostate Seed Implantation Robot's Rotatory Joint", Electronics 2020, 9, 284.
 Units at every interface are the paper's: angles in deg, velocities in deg/s, torques in N*m.
 
 Subpackages: ``friction``, ``plant``, ``control``, ``identify``, ``dynamic``, ``diagnose``, ``emps``,
-``sweep``, ``testing``, ``io``, ``reproduce``; modules ``metrics``, ``xla`` (:func:`configure`).
+``sweep``, ``scenario``, ``testing``, ``io``, ``reproduce``; modules ``metrics``, ``xla`` (:func:`configure`).
 Nothing process-wide changes on import: call :func:`configure` first (float64, XLA options).
 """
 
@@ -70,6 +70,7 @@ from . import (  # noqa: E402
     emps as emps,
     identify as identify,
     metrics as metrics,
+    scenario as scenario,
     sweep as sweep,
     testing as testing,
 )

@@ -237,6 +237,74 @@ def test_library_subpackages_import_only_public_names_of_each_other():
                             "exported in its __init__.py):\n" + "\n".join(unexpected))
 
 
+# ------------------------------------------------------------------------------ layers
+
+#: The library's layers, bottom first (docs/design.md, "Layers"). A library file may import its own
+#: subpackage and the modules of lower layers, nothing of its own layer or above: ``io`` (file
+#: formats) imports none of the package; ``scenario`` builds systems above the simulator.
+LAYERS: tuple[frozenset[str], ...] = (
+    frozenset({"_types"}),
+    frozenset({"_params", "_fusion", "_fit", "xla", "metrics", "io"}),
+    frozenset({"friction"}),
+    frozenset({"plant", "control"}),
+    frozenset({"_simulation"}),
+    frozenset({"scenario"}),
+    frozenset({"identify", "dynamic", "diagnose", "emps", "sweep", "testing"}),
+)
+
+
+def _layer(part: str) -> int | None:
+    return next((i for i, names in enumerate(LAYERS) if part in names), None)
+
+
+def layer_violations(rel: str, repo: Path = REPO) -> list[str]:
+    """'file:line: statement' for each import of the library file ``rel`` that reaches its own layer
+    (another subpackage of it) or a higher one, or a part of the package that no layer holds."""
+    parts = Path(rel).with_suffix("").parts
+    if len(parts) < 2 or parts[1] == "__init__":
+        return []  # the package's root gathers every layer's public names
+    own = parts[1]
+    mine = _layer(own)
+    bad = []
+    for line, module, name, stmt in _imports(rel, repo):
+        dotted = module.split(".")
+        if dotted[0] != "lugre_jax":
+            continue
+        target = dotted[1] if len(dotted) > 1 else name  # `from .. import control` names a subpackage
+        if target == own:
+            continue
+        layer = _layer(target)
+        if mine is None or layer is None or layer >= mine:
+            bad.append(f"{rel}:{line}: {stmt}")
+    return list(dict.fromkeys(bad))
+
+
+def test_the_layer_checker_sees_upward_imports(tmp_path):
+    files = {
+        "lugre_jax/io/_x.py": "from .._simulation import System\nfrom ._atomic import write_json\n",
+        "lugre_jax/friction/_y.py": "from ..plant import Joint\nfrom .._params import param\nfrom .._types import Array\n",
+        "lugre_jax/plant/_z.py": "from .. import control as C\nfrom ..friction import LuGre\n",
+        "lugre_jax/identify/_w.py": "from ..emps import idim_ls\nfrom ..scenario import load_scenario\nfrom ..io import read_json\n",
+        "lugre_jax/_simulation/_v.py": "from ..scenario import load_scenario\nimport lugre_jax.plant\n",
+    }
+    for rel, text in files.items():
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text(text)
+    got = {rel: [v.split(": ", 1)[1] for v in layer_violations(rel, tmp_path)] for rel in files}
+    assert got == {
+        "lugre_jax/io/_x.py": ["from .._simulation import System"],
+        "lugre_jax/friction/_y.py": ["from ..plant import Joint"],
+        "lugre_jax/plant/_z.py": ["from .. import control as C"],
+        "lugre_jax/identify/_w.py": ["from ..emps import idim_ls"],
+        "lugre_jax/_simulation/_v.py": ["from ..scenario import load_scenario"],
+    }
+
+
+def test_library_imports_follow_the_layers():
+    found = [v for rel in _library_files() for v in layer_violations(rel)]
+    assert not found, "imports against the layers of docs/design.md:\n" + "\n".join(found)
+
+
 # ------------------------------------------------------------------------------ exported surfaces
 
 IDENTIFY_PUBLIC = {

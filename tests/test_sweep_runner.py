@@ -17,7 +17,7 @@ import pytest
 
 import lugre_jax as lj
 from lugre_jax import metrics as M
-from lugre_jax.io import scenario_from_dict
+from lugre_jax.scenario import scenario_from_dict
 from lugre_jax.sweep import STATUS_FAILED, STATUS_FAST, STATUS_STIFF, run_sweep, spec_from_dict
 
 SCENARIO = {

@@ -14,7 +14,7 @@ import pytest
 
 import lugre_jax as lj
 from lugre_jax import metrics as M
-from lugre_jax.io import scenario_from_dict
+from lugre_jax.scenario import scenario_from_dict
 from lugre_jax.sweep import (BandFraction, CreepAmplitude, DeadZone, StickSlip, TrackingError, spec_from_dict)
 from lugre_jax.sweep._paths import batch_system
 

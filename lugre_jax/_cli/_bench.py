@@ -45,7 +45,7 @@ from .. import simulate as _simulate_api
 from .._simulation._system import rates as _rates, split as _split  # rhs_floor only: see the docstring
 from ..control import VelocityPID, VelocitySteps
 from ..friction import LuGre, from_vector, to_vector
-from ..io import FIXED_SOLVERS
+from ..scenario import FIXED_SOLVERS
 from ..plant import PAPER_J, Joint, paper_friction, paper_segment
 
 

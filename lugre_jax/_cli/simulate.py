@@ -18,7 +18,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                        description="Simulate the joint of a scenario file. Units: deg, deg/s, N*m, s.\n"
                                    "Without a 'solver' section the scenario is solved with error-controlled "
                                    "stepping that lands on the reference's steps (lugre_jax.Adaptive).")
-    p.add_argument("scenario", help="scenario JSON (schema: lugre_jax/io/_scenario.py)")
+    p.add_argument("scenario", help="scenario JSON (schema: lugre_jax/scenario/_build.py)")
     p.add_argument("--out", required=True, help="trajectory CSV to write (an existing file is replaced atomically)")
     p.add_argument("--plot", help="optional PNG figure of the trajectory")
     p.add_argument("--force", action="store_true", help="write a CSV larger than 500 MB")
@@ -26,7 +26,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def check(args) -> None:
-    check_input(args.scenario, "a scenario JSON file (schema: lugre_jax/io/_scenario.py)")
+    check_input(args.scenario, "a scenario JSON file (schema: lugre_jax/scenario/_build.py)")
     check_outputs(args, out=".csv", plot=".png")
 
 
@@ -34,7 +34,8 @@ def run(args) -> int:
     import numpy as np
 
     from .. import simulate
-    from ..io import load_scenario, write_csv
+    from ..io import write_csv
+    from ..scenario import load_scenario
 
     # Progress on a terminal only: a failure's message stays the one line on stderr in logs and pipes.
     quiet = args.quiet or not sys.stderr.isatty()

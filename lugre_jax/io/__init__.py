@@ -1,4 +1,5 @@
-"""Input/output: atomic writers, scenario JSON, Stribeck CSV, EPOS exports, EMPS .mat, recordings.
+"""Input/output: atomic writers, JSON, Stribeck CSV, EPOS exports, EMPS .mat, recordings. File formats
+only: nothing here imports the rest of the package (scenarios are built in :mod:`lugre_jax.scenario`).
 
 Every loader reports a malformed file by path and line (and column where it applies); every writer
 is atomic (temporary file, then rename).
@@ -41,8 +42,6 @@ from ._recording import (
     recording_from_arrays as recording_from_arrays,
     write_recording as write_recording,
 )
-from ._scenario import ADAPTIVE_SOLVERS as ADAPTIVE_SOLVERS, FIXED_SOLVERS as FIXED_SOLVERS
-from ._scenario import ScenarioError as ScenarioError, load_scenario as load_scenario, scenario_from_dict as scenario_from_dict
 from ._stribeck_data import (
     StribeckData as StribeckData,
     load_stribeck_csv as load_stribeck_csv,

@@ -40,7 +40,8 @@ from typing import Any
 import diffrax
 
 from .._simulation import Adaptive, FixedStep
-from ..io import FIXED_SOLVERS, read_json, scenario_from_dict
+from ..io import read_json
+from ..scenario import FIXED_SOLVERS, scenario_from_dict
 from ._metrics import METRICS, AbstractMetric
 from ._paths import Path, parse_path
 from ._problem import check_problem

@@ -1,5 +1,6 @@
-"""Scenario files for ``lugre-jax simulate``: JSON -> :class:`lugre_jax.System`, with errors that name
-the key and what was expected.
+"""Scenario files for ``lugre-jax simulate`` and sweeps: JSON -> :class:`lugre_jax.System`, with
+errors that name the key and what was expected. Above the simulator (it builds systems from
+``friction``, ``plant``, ``control`` and ``_simulation``); ``lugre_jax.io`` only reads the JSON.
 
 Units are the paper's: deg, deg/s, N*m, s. Schema (``?`` = optional)::
 
@@ -48,7 +49,7 @@ from .. import control as C
 from .._simulation import N_STATES, STATE_NAMES, Adaptive, FixedStep, System
 from ..friction import LuGre, Segmented
 from ..plant import DCMotor, IdealTorque, Joint, paper_friction
-from ._validate import read_json
+from ..io import read_json
 
 
 class ScenarioError(ValueError):
