@@ -93,7 +93,7 @@ def test_diagnosis_to_json_is_the_report(tmp_path):
     from lugre_jax.io import load_params_json, read_json, write_json
 
     exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
-    g = T.generate(exc, [T.PositionRipple(0.12, 5.0, 1.0), T.Asymmetry(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
+    g = T.generate(exc, [T.PositionRippleEffect(0.12, 5.0, 1.0), T.AsymmetryEffect(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
     rep = diagnose(g.to_recording(), progress=False, candidates=["position_ripple", "gravity"])
     assert isinstance(rep, Diagnosis)
     assert rep.verdict == "position_ripple+unexplained", rep.selection_log
@@ -145,7 +145,7 @@ def test_two_findings_report_the_final_joint_fit():
     from lugre_jax import testing as T
 
     exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
-    g = T.generate(exc, [T.PositionRipple(0.12, 5.0, 1.0), T.Asymmetry(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
+    g = T.generate(exc, [T.PositionRippleEffect(0.12, 5.0, 1.0), T.AsymmetryEffect(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
     rep = diagnose(g.to_recording(), progress=False, candidates=["position_ripple", "asymmetry"])
     assert sorted(rep.named) == ["asymmetry", "position_ripple"], rep.selection_log
     ripple, asym = sorted(rep.missing_physics, key=lambda f: f.name != "position_ripple")

@@ -106,7 +106,7 @@ def test_attribution_finds_an_actuator_lag():
     from lugre_jax.diagnose import diagnose
 
     lugre_jax.configure()
-    g = T.generate(T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0), dwell=4.0, seed=0), [T.ActuatorLag(0.02)],
+    g = T.generate(T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0), dwell=4.0, seed=0), [T.ActuatorLagEffect(0.02)],
                    sensors=T.Sensors(fs=200.0), seed=5)
     rep = diagnose(g.to_recording(), progress=False)
     assert rep.verdict == "unexplained", rep.verdict

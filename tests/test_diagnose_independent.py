@@ -17,8 +17,8 @@ def test_generator_agrees_with_project_simulator():
     sine-tracking run) in both: the scipy LSODA reference and lugre_jax.simulate (adaptive, rtol 1e-10)
     agree to 1e-5 in velocity and torque -- two codes written separately from the equations."""
     plant = T.Plant(sigma2=2.0)  # passive: sigma2 >= sigma1*(Fs - Fc)/Fc, as lugre_jax.LuGre requires
-    pi = T.VelocityPI()
-    g = T.generate(T.PositionSine(3.0, 0.4, duration=2.5), (), plant, pi,
+    pi = T.VelocityPIController()
+    g = T.generate(T.PositionSineExcitation(3.0, 0.4, duration=2.5), (), plant, pi,
                    T.Sensors(fs=100.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0))
     sysm = lugre_jax.System(
         friction=lugre_jax.LuGre(Fc=plant.Fc, Fs=plant.Fs, vs=plant.vs, sigma2=plant.sigma2,
@@ -38,9 +38,9 @@ def test_generator_compliance_has_the_rigid_limit():
     torque J_load*2*zeta/w*jerk is about 0.004 N*m here; tolerance 0.02). A load torque of the wrong
     sign on the motor would leave an inertia J - 2*J_load, 2*J_load*a = 0.77 N*m at the peak."""
     s = T.Sensors(fs=100.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0)
-    exc = T.PositionSine(3.0, 0.4, duration=2.5)
+    exc = T.PositionSineExcitation(3.0, 0.4, duration=2.5)
     rigid = T.generate(exc, (), sensors=s)
-    stiff = T.generate(exc, [T.Compliance(40.0, 0.5, 0.02)], sensors=s)
+    stiff = T.generate(exc, [T.ComplianceEffect(40.0, 0.5, 0.02)], sensors=s)
     k = rigid.time > 0.5  # after the start's step of the velocity reference has rung out
     np.testing.assert_allclose(stiff.true["torque"][k], rigid.true["torque"][k], atol=0.02)
 
@@ -104,7 +104,7 @@ def test_no_velocity_column_conditions_from_position(q):
 @pytest.mark.slow
 def test_gravity_not_named_on_small_position_span():
     """Issue #20's +-3 deg sine: a gravity fitted there is a line in disguise; it must not be named."""
-    g = T.generate(T.PositionSine(3.0, 0.4, duration=30.0), [T.Gravity(0.3, 0.5)],
+    g = T.generate(T.PositionSineExcitation(3.0, 0.4, duration=30.0), [T.GravityEffect(0.3, 0.5)],
                    sensors=T.Sensors(fs=100.0), seed=2)
     rep = diagnose(g.to_recording(), progress=False, candidates=["gravity", "asymmetry"])
     assert "gravity" not in rep.named, rep.selection_log
@@ -117,16 +117,16 @@ def test_gravity_not_named_on_small_position_span():
 # the baseline's Fs and vs absorb delta) and gravity a longer position span. Slow: a few minutes each.
 _FIVE = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
 EFFECT_CASES = {
-    "position_ripple": ([T.PositionRipple(0.12, 5.0, 1.0)], "period", 5.0, 0.05, _FIVE),
-    "asymmetry": ([T.Asymmetry(0.1)], "offset", 0.1, 0.3, _FIVE),
-    "thermal_drift": ([T.ThermalDrift(-0.1 / 64.0)], "rate", -0.1 / 64.0, 0.3, _FIVE),
-    "stribeck_shape": ([T.StribeckShape(1.0)], "delta", 1.0, 0.15, T.Staircase(dwell=4.0, seed=3)),
-    "load_dependent": ([T.LoadDependent(0.15, 0.02)], "mu", 0.15, 0.3, _FIVE),
-    "compliance": ([T.Compliance(3.0, 0.05, 0.02)], "fn_hz", 3.0, 0.1, _FIVE),
+    "position_ripple": ([T.PositionRippleEffect(0.12, 5.0, 1.0)], "period", 5.0, 0.05, _FIVE),
+    "asymmetry": ([T.AsymmetryEffect(0.1)], "offset", 0.1, 0.3, _FIVE),
+    "thermal_drift": ([T.ThermalDriftEffect(-0.1 / 64.0)], "rate", -0.1 / 64.0, 0.3, _FIVE),
+    "stribeck_shape": ([T.StribeckShapeEffect(1.0)], "delta", 1.0, 0.15, T.Staircase(dwell=4.0, seed=3)),
+    "load_dependent": ([T.LoadDependentEffect(0.15, 0.02)], "mu", 0.15, 0.3, _FIVE),
+    "compliance": ([T.ComplianceEffect(3.0, 0.05, 0.02)], "fn_hz", 3.0, 0.1, _FIVE),
     # share 0.1 of the friction behind the gap is not located on this staircase (the baseline's Fs
     # and sigma0 absorb it, validation RMSE 1.03x the floor); 0.3 is
-    "backlash": ([T.Backlash(0.05, 0.3)], "share", 0.3, 0.4, _FIVE),
-    "gravity": ([T.Gravity(0.3, -0.3)], "amplitude", 0.3, 0.3,
+    "backlash": ([T.BacklashEffect(0.05, 0.3)], "share", 0.3, 0.4, _FIVE),
+    "gravity": ([T.GravityEffect(0.3, -0.3)], "amplitude", 0.3, 0.3,
                 T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=12.0, seed=3)),
 }
 RIVALS = {"position_ripple": ["gravity", "asymmetry"], "asymmetry": ["gravity", "thermal_drift"],
@@ -151,7 +151,7 @@ def test_held_out_phase_keeps_periodic_reversals_in_the_fit():
     into every 5 s, so every reversal falls in the third 1-s block of five, the fixed held-out
     phase. Fitted without a single reversal the baseline's validation RMSE was 19x its floor
     (`unexplained`); the phase is now moved off the reversals: `none`, within 10 % of the floor."""
-    g = T.generate(T.PositionSine(5.0, 0.1, duration=60.0), (), sensors=T.Sensors(fs=100.0), seed=1)
+    g = T.generate(T.PositionSineExcitation(5.0, 0.1, duration=60.0), (), sensors=T.Sensors(fs=100.0), seed=1)
     rep = diagnose(g.to_recording(), progress=False)
     assert "phase 2" not in rep.recording.validation, rep.recording.validation
     assert rep.baseline.floor_ratio < 1.10, rep.baseline
@@ -184,8 +184,8 @@ def test_held_out_test_crosses_all_block_phases():
     the change (p > 0.05 against a BIC drop of hundreds). Crossed over all five phases, the test
     sees the transitions and the change is named, its exponent within 20 %."""
     plant = T.Plant(J=0.4, Fc=2.0, Fs=3.0, vs=0.15, sigma2=0.8, sigma0=40.0, sigma1=3.0)
-    g = T.generate(T.Staircase(dwell=5.0, transition=0.0, seed=3104), [T.StribeckShape(1.2)], plant,
-                   T.VelocityPI(kp=25.0, ki=150.0),
+    g = T.generate(T.Staircase(dwell=5.0, transition=0.0, seed=3104), [T.StribeckShapeEffect(1.2)], plant,
+                   T.VelocityPIController(kp=25.0, ki=150.0),
                    T.Sensors(fs=150.0, torque_noise=0.05, velocity_noise=0.0, quantisation=0.002,
                              velocity_column=False), seed=3104)
     rep = diagnose(g.to_recording(), progress=False)
@@ -206,7 +206,7 @@ def test_window_is_chosen_again_for_the_fitted_inertia():
     within 5 % of the truth and the floor ratio within 10 %."""
     plant = T.Plant(J=0.08, Fc=1.5, Fs=1.7, vs=0.3, sigma2=0.3, sigma0=80.0, sigma1=2.0)
     g = T.generate(T.Multisine(amplitude=1.0, f0=0.1, f1=2.0, n=6, duration=60.0), [], plant,
-                   T.VelocityPI(kp=5.0, ki=30.0),
+                   T.VelocityPIController(kp=5.0, ki=30.0),
                    T.Sensors(fs=500.0, torque_noise=0.08, velocity_noise=0.005, quantisation=0.0005), seed=4006)
     rep = diagnose(g.to_recording(), progress=False)
     first = rep.baseline.fit["window_rechosen_from"]
@@ -223,7 +223,7 @@ def test_cross_validation_skips_a_phase_that_holds_every_step():
     starts a block of phase 0, so a refit without that phase has no acceleration to fix the inertia
     (it fell to 0.006 and the ripple's cross-validated error rose, `asymmetry+unexplained`). That
     phase is left out of the test: the ripple is named, its period within 2 %."""
-    g = T.generate(T.Staircase(dwell=10.0, seed=4102), [T.PositionRipple(0.08, 6.0, 2.0)],
+    g = T.generate(T.Staircase(dwell=10.0, seed=4102), [T.PositionRippleEffect(0.08, 6.0, 2.0)],
                    sensors=T.Sensors(fs=100.0), seed=4102)
     rep = diagnose(g.to_recording(), progress=False)
     assert rep.named == ["position_ripple"], (rep.verdict, rep.selection_log)
@@ -311,8 +311,8 @@ def test_multisine_top_line_with_encoder_only():
     left it 'unexplained' beside the asymmetry. Order 5 (W 61) resolves it: the asymmetry alone is
     named, its offset within 10 %, J within 2 %."""
     plant = T.Plant(J=0.4, Fc=2.0, Fs=3.0, vs=0.15, sigma2=0.8, sigma0=40.0, sigma1=3.0)
-    g = T.generate(T.Multisine(amplitude=1.5, f0=0.05, f1=2.5, n=8, duration=70.0), [T.Asymmetry(0.04)],
-                   plant, T.VelocityPI(kp=25.0, ki=150.0),
+    g = T.generate(T.Multisine(amplitude=1.5, f0=0.05, f1=2.5, n=8, duration=70.0), [T.AsymmetryEffect(0.04)],
+                   plant, T.VelocityPIController(kp=25.0, ki=150.0),
                    T.Sensors(fs=400.0, torque_noise=0.1, velocity_noise=0.002, quantisation=0.0005,
                              velocity_column=False), seed=3103)
     rep = diagnose(g.to_recording(), progress=False)
@@ -329,7 +329,7 @@ def test_drift_on_a_fast_sharp_staircase():
     sign(v) missed it (t 3.0, 'none'); on the friction torque it is named, the change within 10 %."""
     plant = T.Plant(J=0.08, Fc=1.5, Fs=1.7, vs=0.3, sigma2=0.3, sigma0=80.0, sigma1=2.0)
     g = T.generate(T.Staircase(speeds=(0.02, 0.1, 0.4, 1.5, 5.0), dwell=2.5, transition=0.0, seed=4103),
-                   [T.ThermalDrift(-0.08 / 50.0)], plant, T.VelocityPI(kp=5.0, ki=30.0),
+                   [T.ThermalDriftEffect(-0.08 / 50.0)], plant, T.VelocityPIController(kp=5.0, ki=30.0),
                    T.Sensors(fs=1000.0, torque_noise=0.1, velocity_noise=0.003, quantisation=0.0005), seed=4103)
     rep = diagnose(g.to_recording(), progress=False)
     assert rep.named == ["thermal_drift"], (rep.verdict, rep.selection_log)
@@ -345,8 +345,8 @@ def test_order_five_noise_band_is_not_a_line():
     cut-off, and showed as a 10.6-Hz time line ('position_ripple+unexplained'). Order 5 is now
     considered only below half the torque noise: order 3, `none`, at the floor."""
     plant = T.Plant(J=0.128, Fc=1.0, Fs=1.6, vs=0.2, sigma2=0.5, sigma0=100.0, sigma1=2.0)
-    g = T.generate(T.PositionSine(amplitude=5.0, frequency=0.2, duration=60.0), [], plant,
-                   T.VelocityPI(kp=4.0, ki=20.0),
+    g = T.generate(T.PositionSineExcitation(amplitude=5.0, frequency=0.2, duration=60.0), [], plant,
+                   T.VelocityPIController(kp=4.0, ki=20.0),
                    T.Sensors(fs=120.0, torque_noise=0.05, velocity_noise=0.0, quantisation=0.001,
                              velocity_column=False), seed=3009)
     rep = diagnose(g.to_recording(), progress=False)

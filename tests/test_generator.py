@@ -21,8 +21,8 @@ def test_position_pid_agrees_with_project_simulator():
     position, velocity and torque -- two codes written separately from the equations."""
     plant = T.Plant(sigma2=2.0)  # passive: sigma2 >= sigma1*(Fs - Fc)/Fc, as lugre_jax.LuGre requires
     kpp, kp, ki = 8.0, 3.0, 20.0
-    g = T.generate(T.PositionSine(3.0, 0.4, duration=2.5), (), plant,
-                   T.PositionPID(kp=kp * kpp + ki, ki=ki * kpp, kd=kp, tf=0.0, kff=kp),
+    g = T.generate(T.PositionSineExcitation(3.0, 0.4, duration=2.5), (), plant,
+                   T.PositionPIDController(kp=kp * kpp + ki, ki=ki * kpp, kd=kp, tf=0.0, kff=kp),
                    T.Sensors(fs=100.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0))
     sysm = lugre_jax.System(
         friction=lugre_jax.LuGre(Fc=plant.Fc, Fs=plant.Fs, vs=plant.vs, sigma2=plant.sigma2,
@@ -43,9 +43,9 @@ def test_filtered_derivative_tends_to_the_unfiltered_one():
     shrinks the loop tends to the unfiltered one, the torque's difference shrinking about in
     proportion to tf (a filter that were not applied, or applied to the wrong signal, would not)."""
     exc = T.PointToPoint(amplitudes=(3.0, -1.0), move_time=1.5, dwell=1.0)
-    base = T.PositionPID.tuned(0.1, tf=0.0)
+    base = T.PositionPIDController.tuned(0.1, tf=0.0)
     ref = T.generate(exc, (), controller=base, sensors=QUIET).true["torque"]
-    d = [np.max(np.abs(T.generate(exc, (), controller=T.PositionPID(base.kp, base.ki, base.kd, tf, base.kff),
+    d = [np.max(np.abs(T.generate(exc, (), controller=T.PositionPIDController(base.kp, base.ki, base.kd, tf, base.kff),
                                   sensors=QUIET).true["torque"] - ref)) for tf in (4e-3, 1e-3)]
     assert d[1] < 0.4 * d[0] and d[0] > 1e-4, d
 
@@ -57,7 +57,7 @@ def test_position_pid_tracks_point_to_point_moves(feedforward, limit):
     velocity feedforward and below 10 % without it, and at the end of every dwell the joint sits
     within 1 % of the mean move of its set point (the integral has removed the friction's offset)."""
     exc = T.PointToPoint()
-    g = T.generate(exc, (), controller=T.PositionPID.tuned(0.1, feedforward=feedforward), sensors=QUIET)
+    g = T.generate(exc, (), controller=T.PositionPIDController.tuned(0.1, feedforward=feedforward), sensors=QUIET)
     moves = np.abs(np.diff(np.concatenate([[0.0], exc.amplitudes])))
     err = g.true["theta"] - g.position_ref
     assert np.sqrt(np.mean(err ** 2)) < limit * moves.mean()
@@ -75,7 +75,7 @@ def test_every_excitation_runs_under_both_controllers():
     s = T.Sensors(fs=1000.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0)
     for exc in (T.Staircase(speeds=(0.5, 2.0), dwell=2.0, transition=0.0, repeats=1), T.SineSweep(duration=6.0),
                 T.PointToPoint(amplitudes=(2.0, -1.0), move_time=1.0, dwell=1.0)):
-        g = T.generate(exc, (), controller=T.PositionPID.tuned(0.1), sensors=s)
+        g = T.generate(exc, (), controller=T.PositionPIDController.tuned(0.1), sensors=s)
         integral = np.concatenate([[0.0], cumulative_trapezoid(g.velocity_ref, g.time)])
         assert np.max(np.abs(g.position_ref - integral)) < 1e-3 * max(np.max(np.abs(integral)), 1.0)
         assert np.sqrt(np.mean((g.true["theta"] - g.position_ref) ** 2)) < 0.1 * np.ptp(g.position_ref)
@@ -118,7 +118,7 @@ def test_quadratic_drag_adds_c_v_abs_v():
     (to 1e-4 of the drag's peak, the loop's settling)."""
     c = 0.01
     free = T.generate(_STAIRS, (), sensors=QUIET)
-    drag = T.generate(_STAIRS, [T.QuadraticDrag(c)], sensors=QUIET)
+    drag = T.generate(_STAIRS, [T.QuadraticDragEffect(c)], sensors=QUIET)
     k = _settled(drag)
     v = drag.true["omega"][k]
     np.testing.assert_allclose(drag.true["torque"][k] - free.true["torque"][k], c * v * np.abs(v),
@@ -130,7 +130,7 @@ def test_time_disturbance_is_a_sine_in_time():
     A*sin(2*pi*f*t + phase) on every settled sample, whatever the speed, direction or position
     (within 5 % of A: the PI rejects the 0.13-Hz disturbance with a small velocity error, whose
     viscous and inertial torques differ from the effect-free run's)."""
-    d = T.TimeDisturbance(0.05, 0.13, 0.4)
+    d = T.TimeDisturbanceEffect(0.05, 0.13, 0.4)
     free = T.generate(_STAIRS, (), sensors=QUIET)
     dist = T.generate(_STAIRS, [d], sensors=QUIET)
     k = _settled(dist)
@@ -144,7 +144,7 @@ def test_torque_dependent_friction_grows_with_the_transmitted_torque():
     the moves the extra torque is mu*|tau - rotor_share*J*a|*tanh(v/v_eps) (to 1e-6 of its peak),
     larger accelerating than braking, unlike the load_dependent candidate's mu*|J*a|."""
     mu = 0.05
-    eff = T.TorqueDependentFriction(mu, 0.5, 0.02)
+    eff = T.TorqueDependentFrictionEffect(mu, 0.5, 0.02)
     free = T.generate(_STAIRS, (), sensors=QUIET)
     g = T.generate(_STAIRS, [eff], sensors=QUIET)
     k = _settled(g)
@@ -166,7 +166,7 @@ def test_actuator_lag_follows_the_torque_rate():
     lag-free one within 1 % of the peak torque."""
     s = T.Sensors(fs=1000.0, torque_noise=0.0, velocity_noise=0.0, quantisation=0.0)
     exc = T.PointToPoint(amplitudes=(3.0, -2.0), move_time=1.5, dwell=1.5)
-    g = T.generate(exc, [T.ActuatorLag(0.02)], sensors=s)
+    g = T.generate(exc, [T.ActuatorLagEffect(0.02)], sensors=s)
     u, tj = g.true["torque"], g.true["applied_torque"]
     dtj = np.gradient(tj, g.time)
     inner = slice(5, -5)
@@ -174,7 +174,7 @@ def test_actuator_lag_follows_the_torque_rate():
     np.testing.assert_allclose(g.true["effect_torque"], u - tj, atol=1e-6 * np.max(np.abs(u)))
     assert np.corrcoef(u - tj, 0.02 * np.gradient(u, g.time))[0, 1] > 0.9
     free = T.generate(exc, (), sensors=s)
-    quick = T.generate(exc, [T.ActuatorLag(1e-4)], sensors=s)
+    quick = T.generate(exc, [T.ActuatorLagEffect(1e-4)], sensors=s)
     np.testing.assert_allclose(quick.true["torque"], free.true["torque"], atol=0.01 * np.max(np.abs(free.true["torque"])))
 
 
@@ -183,4 +183,4 @@ def test_outside_effects_are_exported_and_distinct_from_the_candidates():
                                       "time_disturbance"}
     assert not set(T.OUTSIDE_EFFECTS) & set(T.EFFECTS)
     with pytest.raises(ValueError):
-        T.generate(_STAIRS, [T.LoadDependent(), T.TorqueDependentFriction()], sensors=QUIET)
+        T.generate(_STAIRS, [T.LoadDependentEffect(), T.TorqueDependentFrictionEffect()], sensors=QUIET)

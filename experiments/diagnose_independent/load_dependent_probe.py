@@ -37,7 +37,7 @@ from lugre_jax.diagnose import _locate as L, _model as M, _select as S, diagnose
 def generate(strength, seed):
     sens = T.Sensors(fs=200.0, torque_noise=0.08, velocity_noise=0.003, quantisation=0.0005)
     effs = R.CONCEALED["load_dependent"](strength) if strength > 0 else []
-    return T.generate(R.excitation_of("staircase_short", 200.0, seed), effs, T.Plant(), T.VelocityPI(), sens,
+    return T.generate(R.excitation_of("staircase_short", 200.0, seed), effs, T.Plant(), T.VelocityPIController(), sens,
                       seed=seed)
 
 

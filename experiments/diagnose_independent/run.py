@@ -93,18 +93,18 @@ FLAT = T.Plant(J=0.08, Fc=1.5, Fs=1.7, vs=0.3, sigma2=0.3, sigma0=80.0, sigma1=2
 NIMBLE = T.Plant(J=0.06, Fc=0.9, Fs=1.4, vs=0.1, sigma2=0.6, sigma0=200.0, sigma1=1.0)
 SLUGGISH = T.Plant(J=0.25, Fc=1.8, Fs=2.4, vs=0.04, sigma2=1.8, sigma0=50.0, sigma1=2.5)
 MIDDLE = T.Plant(J=0.15, Fc=1.1, Fs=1.9, vs=0.12, sigma2=0.9, sigma0=120.0, sigma1=1.2)
-PLANTS = {"issue": (T.Plant(), T.VelocityPI()), "paper_like": (PAPER_LIKE, T.VelocityPI(kp=4.0, ki=20.0)),
-          "light": (LIGHT, T.VelocityPI(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPI(kp=25.0, ki=150.0)),
-          "medium": (MEDIUM, T.VelocityPI(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPI(kp=5.0, ki=30.0)),
-          "nimble": (NIMBLE, T.VelocityPI(kp=3.0, ki=20.0)), "sluggish": (SLUGGISH, T.VelocityPI(kp=15.0, ki=100.0)),
-          "middle": (MIDDLE, T.VelocityPI(kp=8.0, ki=50.0))}
+PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
+          "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
+          "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
+          "nimble": (NIMBLE, T.VelocityPIController(kp=3.0, ki=20.0)), "sluggish": (SLUGGISH, T.VelocityPIController(kp=15.0, ki=100.0)),
+          "middle": (MIDDLE, T.VelocityPIController(kp=8.0, ki=50.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
-PIDS = {"issue": T.PositionPID.tuned(0.1, 3.0), "paper_like": T.PositionPID.tuned(0.128, 2.5, tf=0.004),
-        "medium": T.PositionPID.tuned(0.2, 3.0, tf=0.003), "nimble": T.PositionPID.tuned(0.06, 3.5, tf=0.002),
-        "sluggish": T.PositionPID.tuned(0.25, 2.5, tf=0.005), "middle": T.PositionPID.tuned(0.15, 3.0, tf=0.003),
-        "light": T.PositionPID.tuned(0.04, 3.5, tf=0.002), "heavy": T.PositionPID.tuned(0.4, 2.5, tf=0.005),
-        "flat": T.PositionPID.tuned(0.08, 3.0, tf=0.003)}
+PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
+        "medium": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003), "nimble": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
+        "sluggish": T.PositionPIDController.tuned(0.25, 2.5, tf=0.005), "middle": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003),
+        "light": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002), "heavy": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
+        "flat": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -472,7 +472,7 @@ def outside_settings():
 def excitation_of(name: str, fs: float, seed: int, short: bool = False, kw=None):
     if kw:  # the held-out study's explicit parameters
         cls = {"staircase": T.Staircase, "staircase_sharp": T.Staircase, "sine_sweep": T.SineSweep,
-               "multisine": T.Multisine, "position_sine": T.PositionSine, "point_to_point": T.PointToPoint,
+               "multisine": T.Multisine, "position_sine": T.PositionSineExcitation, "point_to_point": T.PointToPoint,
                "sharp_steps": T.Staircase}[name]
         kw = {k: tuple(v) if isinstance(v, list) else v for k, v in kw.items()}
         kw = dict(kw, **({"transition": 0.0} if name == "staircase_sharp" else {}))
@@ -493,50 +493,50 @@ def excitation_of(name: str, fs: float, seed: int, short: bool = False, kw=None)
 
 ISSUE_EFFECTS = {
     "none": [],
-    "gravity": [T.Gravity(0.15, -0.3)],
-    "asymmetry": [T.Asymmetry(0.06)],  # 5 % of Fc
-    "position_ripple": [T.PositionRipple(0.07, 7.5, 1.0)],
-    "thermal_drift": [T.ThermalDrift(-0.04 / 288.0)],
-    "position_ripple+asymmetry": [T.PositionRipple(0.07, 7.5, 1.0), T.Asymmetry(0.06)],
+    "gravity": [T.GravityEffect(0.15, -0.3)],
+    "asymmetry": [T.AsymmetryEffect(0.06)],  # 5 % of Fc
+    "position_ripple": [T.PositionRippleEffect(0.07, 7.5, 1.0)],
+    "thermal_drift": [T.ThermalDriftEffect(-0.04 / 288.0)],
+    "position_ripple+asymmetry": [T.PositionRippleEffect(0.07, 7.5, 1.0), T.AsymmetryEffect(0.06)],
 }
 
 # the held-out effects (peak near the per-sample noise of their recordings)
 HELD_EFFECTS = {
-    "asymmetry": [T.Asymmetry(0.04)],
-    "position_ripple": [T.PositionRipple(0.06, 4.0, 0.3)],
-    "stribeck_shape": [T.StribeckShape(1.2)],
-    "thermal_drift": [T.ThermalDrift(-0.06 / 192.0)],
-    "gravity": [T.Gravity(0.05, 0.8)],
+    "asymmetry": [T.AsymmetryEffect(0.04)],
+    "position_ripple": [T.PositionRippleEffect(0.06, 4.0, 0.3)],
+    "stribeck_shape": [T.StribeckShapeEffect(1.2)],
+    "thermal_drift": [T.ThermalDriftEffect(-0.06 / 192.0)],
+    "gravity": [T.GravityEffect(0.05, 0.8)],
 }
 
 # the fresh set's effects: the issue's sizes (asymmetry, gravity, ripple) and the slow tests' (the
 # others; drift -8 % over the 50-s recording)
 FRESH_EFFECTS = {
-    "asymmetry": [T.Asymmetry(0.06)],
-    "gravity": [T.Gravity(0.15, 0.3)],
-    "position_ripple": [T.PositionRipple(0.08, 6.0, 2.0)],
-    "thermal_drift": [T.ThermalDrift(-0.08 / 50.0)],
-    "stribeck_shape": [T.StribeckShape(1.0)],
-    "load_dependent": [T.LoadDependent(0.15, 0.02)],
-    "compliance": [T.Compliance(3.0, 0.05, 0.04)],
-    "backlash": [T.Backlash(0.05, 0.3)],
-    "position_ripple+asymmetry": [T.PositionRipple(0.08, 6.0, 2.0), T.Asymmetry(0.06)],
+    "asymmetry": [T.AsymmetryEffect(0.06)],
+    "gravity": [T.GravityEffect(0.15, 0.3)],
+    "position_ripple": [T.PositionRippleEffect(0.08, 6.0, 2.0)],
+    "thermal_drift": [T.ThermalDriftEffect(-0.08 / 50.0)],
+    "stribeck_shape": [T.StribeckShapeEffect(1.0)],
+    "load_dependent": [T.LoadDependentEffect(0.15, 0.02)],
+    "compliance": [T.ComplianceEffect(3.0, 0.05, 0.04)],
+    "backlash": [T.BacklashEffect(0.05, 0.3)],
+    "position_ripple+asymmetry": [T.PositionRippleEffect(0.08, 6.0, 2.0), T.AsymmetryEffect(0.06)],
 }
 
 # concealed level (strength 1): the peak effect torque below the 0.08 N*m per-sample noise (the
 # measured peak is recorded with every run)
 CONCEALED = {
-    "gravity": lambda s: [T.Gravity(0.06 * s, -0.3)],
-    "asymmetry": lambda s: [T.Asymmetry(0.04 * s, 0.0)],
-    "position_ripple": lambda s: [T.PositionRipple(0.05 * s, 7.5, 1.0)],
-    "thermal_drift": lambda s: [T.ThermalDrift(-0.0125 * s / 144.0)],
-    "stribeck_shape": lambda s: [T.StribeckShape(2.0 - 0.4 * s)],
-    "backlash": lambda s: [T.Backlash(0.02, 0.025 * s)],
-    "compliance": lambda s: [T.Compliance(3.0, 0.05, 0.01 * s)],
-    "load_dependent": lambda s: [T.LoadDependent(0.03 * s, 0.02)],
-    "gravity+asymmetry": lambda s: [T.Gravity(0.06 * s, -0.3), T.Asymmetry(0.04 * s, 0.0)],
-    "position_ripple+thermal_drift": lambda s: [T.PositionRipple(0.05 * s, 7.5, 1.0),
-                                                T.ThermalDrift(-0.0125 * s / 144.0)],
+    "gravity": lambda s: [T.GravityEffect(0.06 * s, -0.3)],
+    "asymmetry": lambda s: [T.AsymmetryEffect(0.04 * s, 0.0)],
+    "position_ripple": lambda s: [T.PositionRippleEffect(0.05 * s, 7.5, 1.0)],
+    "thermal_drift": lambda s: [T.ThermalDriftEffect(-0.0125 * s / 144.0)],
+    "stribeck_shape": lambda s: [T.StribeckShapeEffect(2.0 - 0.4 * s)],
+    "backlash": lambda s: [T.BacklashEffect(0.02, 0.025 * s)],
+    "compliance": lambda s: [T.ComplianceEffect(3.0, 0.05, 0.01 * s)],
+    "load_dependent": lambda s: [T.LoadDependentEffect(0.03 * s, 0.02)],
+    "gravity+asymmetry": lambda s: [T.GravityEffect(0.06 * s, -0.3), T.AsymmetryEffect(0.04 * s, 0.0)],
+    "position_ripple+thermal_drift": lambda s: [T.PositionRippleEffect(0.05 * s, 7.5, 1.0),
+                                                T.ThermalDriftEffect(-0.0125 * s / 144.0)],
 }
 
 

@@ -2,7 +2,8 @@
 this project's simulator did not make (like ``numpy.testing``: a reference, not part of the science).
 
 Plant: a rigid rotary joint (Li et al., Electronics 2020, 9, 284, eq. 1-2) with LuGre friction
-(eq. 9) under a velocity PI loop (:class:`VelocityPI`) or a position PID (:class:`PositionPID`),
+(eq. 9) under a velocity PI loop (:class:`VelocityPIController`) or a position PID
+(:class:`PositionPIDController`),
 written here from the equations with plain numpy and integrated by scipy's ``solve_ivp`` (LSODA or
 Radau, tight tolerance), segment by segment between the breakpoints of the reference so that sharp
 steps are not stepped over. Nothing of ``lugre_jax``'s simulator or friction code is imported: an
@@ -66,7 +67,7 @@ class Controller:
 
 
 @dataclasses.dataclass(frozen=True)
-class VelocityPI(Controller):
+class VelocityPIController(Controller):
     """``tau = kp*(v_ref - v) + ki*int(v_ref - v)`` on the TRUE velocity (N*m*s/deg, N*m/deg)."""
 
     kp: float = 6.0
@@ -75,7 +76,7 @@ class VelocityPI(Controller):
 
 
 @dataclasses.dataclass(frozen=True)
-class PositionPID(Controller):
+class PositionPIDController(Controller):
     """PID on the TRUE position: ``tau = kp*e + ki*int(e) - kd*D + kff*v_ref``, ``e = theta_ref -
     theta`` [deg]. The derivative acts on the measurement, not the error (no kick when the
     reference moves), filtered: ``D`` is the velocity through a first-order low-pass of time
@@ -94,7 +95,7 @@ class PositionPID(Controller):
 
     @classmethod
     def tuned(cls, J: float, bandwidth_hz: float = 3.0, zeta: float = 0.8, tf: float = 0.002,
-              feedforward: bool = True) -> "PositionPID":
+              feedforward: bool = True) -> "PositionPIDController":
         """Gains placing the rigid joint's poles (friction left out) at natural frequency
         ``bandwidth_hz`` and damping ``zeta``: kp = J*w^2, kd = 2*zeta*w*J, ki = kp*w/4; ``kff = kd``
         when ``feedforward``."""
@@ -267,7 +268,7 @@ class Multisine(Excitation):
 
 
 @dataclasses.dataclass(frozen=True)
-class PositionSine(Excitation):
+class PositionSineExcitation(Excitation):
     """Position sine of ``amplitude`` [deg] at ``frequency`` [Hz], as a velocity reference (the paper's
     sine-tracking runs: 3 deg at 0.4 Hz)."""
 
@@ -353,7 +354,7 @@ class Effect:
 
 
 @dataclasses.dataclass(frozen=True)
-class Gravity(Effect):
+class GravityEffect(Effect):
     amplitude: float = 0.15  # N*m
     phase: float = -0.3  # rad; G = A*sin(theta[rad] + phase)
     id: ClassVar[str] = "gravity"
@@ -363,7 +364,7 @@ class Gravity(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class Asymmetry(Effect):
+class AsymmetryEffect(Effect):
     """Friction offset + dsigma2*|v|: Fc is Fc+offset moving positive, Fc-offset negative."""
 
     offset: float = 0.06  # N*m (5 % of Fc)
@@ -375,7 +376,7 @@ class Asymmetry(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class PositionRipple(Effect):
+class PositionRippleEffect(Effect):
     amplitude: float = 0.07  # N*m
     period: float = 5.0  # deg
     phase: float = 1.0
@@ -386,7 +387,7 @@ class PositionRipple(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class ThermalDrift(Effect):
+class ThermalDriftEffect(Effect):
     """The whole friction torque scaled by ``1 + rate*(t - t_mid)`` [1/s]."""
 
     rate: float = -1e-4
@@ -397,13 +398,13 @@ class ThermalDrift(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class StribeckShape(Effect):
+class StribeckShapeEffect(Effect):
     delta: float = 1.0
     id: ClassVar[str] = "stribeck_shape"
 
 
 @dataclasses.dataclass(frozen=True)
-class LoadDependent(Effect):
+class LoadDependentEffect(Effect):
     """Extra friction ``mu*|J*a|*tanh(v/v_eps)`` (solved exactly: the acceleration depends on it)."""
 
     mu: float = 0.2
@@ -412,7 +413,7 @@ class LoadDependent(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class Compliance(Effect):
+class ComplianceEffect(Effect):
     """Two-mass joint: ``J_load`` of the total ``J`` sits behind a spring of natural frequency ``fn``
     [Hz] and damping ratio ``zeta``; friction acts on the motor side."""
 
@@ -423,7 +424,7 @@ class Compliance(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class Backlash(Effect):
+class BacklashEffect(Effect):
     """A dead band of total ``width`` [deg] in front of ``share`` of the friction, which has its own
     bristle state and is felt only while the band is closed."""
 
@@ -432,15 +433,15 @@ class Backlash(Effect):
     id: ClassVar[str] = "backlash"
 
 
-EFFECTS = {c.id: c for c in (Gravity, Asymmetry, PositionRipple, ThermalDrift, StribeckShape,
-                             LoadDependent, Compliance, Backlash)}
+EFFECTS = {c.id: c for c in (GravityEffect, AsymmetryEffect, PositionRippleEffect, ThermalDriftEffect,
+                             StribeckShapeEffect, LoadDependentEffect, ComplianceEffect, BacklashEffect)}
 
 
 # Effects outside the diagnose candidates: physics none of the eight candidates writes down.
 
 
 @dataclasses.dataclass(frozen=True)
-class ActuatorLag(Effect):
+class ActuatorLagEffect(Effect):
     """The drive's torque reaches the joint through a first-order lag of time constant ``T`` [s]
     (a slow current loop): ``T*d(tau_j)/dt = tau_cmd - tau_j``, the joint driven by ``tau_j``, while
     the recording holds the command ``tau_cmd``. The recorded torque then exceeds the joint's
@@ -452,7 +453,7 @@ class ActuatorLag(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class QuadraticDrag(Effect):
+class QuadraticDragEffect(Effect):
     """Fluid (windage, churning) drag ``c*v*|v|`` [N*m], ``c`` in N*m*s^2/deg^2: quadratic in the
     speed, where the paper's viscous term is linear. Strength: ``c``."""
 
@@ -464,7 +465,7 @@ class QuadraticDrag(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class TorqueDependentFriction(Effect):
+class TorqueDependentFrictionEffect(Effect):
     """Friction growing with the torque the transmission carries: the mesh (gear, screw) passes the
     motor's torque less the torque that accelerates the rotor in front of it, ``tau_t = tau_m -
     rotor_share*J*a``, and its contact force grows with it, adding ``mu*|tau_t|*tanh(v/v_eps)``.
@@ -481,7 +482,7 @@ class TorqueDependentFriction(Effect):
 
 
 @dataclasses.dataclass(frozen=True)
-class TimeDisturbance(Effect):
+class TimeDisturbanceEffect(Effect):
     """A slow periodic torque in time, not tied to the position or the motion (a cable pulled by a
     neighbouring axis, a pump's pressure, mains-locked hum through a slow filter):
     ``amplitude*sin(2*pi*frequency*t + phase)`` [N*m], ``frequency`` [Hz]. Strength: ``amplitude``."""
@@ -495,7 +496,8 @@ class TimeDisturbance(Effect):
         return self.amplitude * math.sin(2 * math.pi * self.frequency * t + self.phase)
 
 
-OUTSIDE_EFFECTS = {c.id: c for c in (ActuatorLag, QuadraticDrag, TorqueDependentFriction, TimeDisturbance)}
+OUTSIDE_EFFECTS = {c.id: c for c in (ActuatorLagEffect, QuadraticDragEffect, TorqueDependentFrictionEffect,
+                                     TimeDisturbanceEffect)}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -509,9 +511,9 @@ class GeneratedRecording:
 
     ``torque_noise_std``: the std of the torque noise actually added to this recording (its
     samples: ``true["torque_noise"]``), the value a noise-floor estimate should come out at.
-    ``position_ref``: the position reference under a :class:`PositionPID` (None otherwise).
+    ``position_ref``: the position reference under a :class:`PositionPIDController` (None otherwise).
     ``true["applied_torque"]``: the torque that reached the joint (the command, except behind an
-    :class:`ActuatorLag`)."""
+    :class:`ActuatorLagEffect`)."""
 
     time: np.ndarray
     position: np.ndarray | None
@@ -551,7 +553,8 @@ class GeneratedRecording:
 
 class _RHS:
     """Closed-loop right-hand side. State: theta, omega, z, xi (the controller's integral: of the
-    velocity error under a :class:`VelocityPI`, of the position error under a :class:`PositionPID`)
+    velocity error under a :class:`VelocityPIController`, of the position error under a
+    :class:`PositionPIDController`)
     [+ e, de (compliance)] [+ theta_load, z_load (backlash)] [+ tau_j (actuator lag)]
     [+ D (position PID's filtered velocity)] [+ theta_ref (position PID, reference integrated)].
 
@@ -576,7 +579,7 @@ class _RHS:
             raise ValueError("effects: load_dependent and torque_dependent_friction cannot be combined")
         delta = d["stribeck_shape"].delta if "stribeck_shape" in d else plant.delta
         self.plant_g = dataclasses.replace(plant, delta=delta).g
-        self.pos = isinstance(ctrl, PositionPID)
+        self.pos = isinstance(ctrl, PositionPIDController)
         n = 4 + (2 if self.comp else 0)
         self.kb = n  # index of theta_load
         n += 2 if self.back else 0
@@ -757,19 +760,21 @@ class _RHS:
 
 
 def generate(excitation: Excitation | None = None, effects=(), plant: Plant | None = None,
-             controller: VelocityPI | PositionPID | None = None, sensors: Sensors | None = None, seed: int = 0,
+             controller: VelocityPIController | PositionPIDController | None = None,
+             sensors: Sensors | None = None, seed: int = 0,
              method: str = "LSODA", rtol: float = 1e-9, atol: float = 1e-11) -> GeneratedRecording:
     """Simulate the closed loop from rest and sample it; see the module docstring.
 
     ``effects``: instances of the classes in :data:`EFFECTS` and :data:`OUTSIDE_EFFECTS` (each kind
-    at most once). ``controller``: a :class:`VelocityPI` (default) or a :class:`PositionPID`; either
+    at most once). ``controller``: a :class:`VelocityPIController` (default) or a
+    :class:`PositionPIDController`; either
     follows any excitation. ``seed``: measurement noise. The integration is restarted at every
     breakpoint of the excitation; ``rtol``/``atol`` apply to the state (deg, deg/s, deg, deg*s).
     Raises ``RuntimeError`` if the integrator fails.
     """
     exc = excitation if excitation is not None else Staircase()
     plant = plant or Plant()
-    pi = controller or VelocityPI()
+    pi = controller or VelocityPIController()
     sens = sensors or Sensors()
     effects = tuple(effects)
     T = float(exc.duration)
