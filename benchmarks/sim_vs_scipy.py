@@ -104,7 +104,7 @@ def main(argv=None):
     ap.add_argument("--scipy-lanes", type=int, default=20)
     ap.add_argument("--tight-lanes", type=int, default=None, help="lanes scored against the tight solve")
     ap.add_argument("--rows", default="default,lane,bosh3,tsit5,exp,exp5",
-                    help="batched rows to run (also: adaptive, exp1)")
+                    help="batched rows to run (also: adaptive, lane, tsit2, exp2, tsit1, exp1, tsit05, exp05)")
     ap.add_argument("--stiff", action="store_true", help="stiff bristles: sigma0 in [1e3, 1e4], sigma1 in [2.3, 30]")
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
@@ -142,6 +142,8 @@ def main(argv=None):
                "lane": ("LaneAdaptive() (Tsit5, rtol 1e-6, atol 1e-9)", lj.LaneAdaptive()),
                "tsit5": ("FixedStep(Tsit5(), dt=0.0025)", lj.FixedStep(diffrax.Tsit5(), dt=0.0025)),
                "exp": ("ExponentialBristle(Tsit5(), dt=0.0025)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.0025)),
+               "tsit2": ("FixedStep(Tsit5(), dt=0.002)", lj.FixedStep(diffrax.Tsit5(), dt=0.002)),
+               "exp2": ("ExponentialBristle(Tsit5(), dt=0.002)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.002)),
                "exp5": ("ExponentialBristle(Tsit5(), dt=0.005)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.005)),
                "exp1": ("ExponentialBristle(Tsit5(), dt=0.001)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.001)),
                "tsit1": ("FixedStep(Tsit5(), dt=0.001)", lj.FixedStep(diffrax.Tsit5(), dt=0.001)),
