@@ -48,7 +48,7 @@ and the floor's ratio to it, and the expected verdict:
 
 Held-out sets for the code as it stands after those studies were used to change it, fixed and
 committed before their first run: ``calib2`` (40 effect-free rows: :func:`calib2_settings`) and
-``fresh4`` (fresh3's effects and nulls on other plants and rates: :func:`fresh4_settings`).
+``fresh4`` (fresh3's effects at other rates and seeds, nulls on other plants: :func:`fresh4_settings`).
 
     python experiments/diagnose_independent/run.py --study calib2 --shard 0/2  # and 1/2
     python experiments/diagnose_independent/run.py --study fresh4 --shard 0/2  # and 1/2
@@ -406,21 +406,30 @@ def calib2_settings(n: int = 40):
     return out
 
 
-# fresh4: fresh3's recipes on other plants and rates, new seeds (the effects' parameters as fresh3's)
+# fresh4: fresh3's recipes at other sampling rates and seeds; the effect-free rows also on other
+# plants. The effect rows keep each recipe's plant, excitation and noise, so the concealed level
+# (peak effect torque 0.6-0.9 of the noise std) carries over from fresh3's design; the effects'
+# phases, periods and signs are changed where that leaves their size alone.
 _F4_PLANT = {"a": "middle", "b": "nimble", "c": "sluggish", "d": "sluggish", "e": "nimble", "f": "middle",
              "g": "sluggish", "h": "middle", "i": "nimble"}
 _F4_FS = {"a": 200.0, "b": 500.0, "c": 180.0, "d": 800.0, "e": 700.0, "f": 250.0, "g": 300.0, "h": 200.0, "i": 350.0}
-_F4_RECIPES = {k: (_F4_PLANT[k],) + r[1:4] + (_F4_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F4_RECIPES = {k: r[:4] + (_F4_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F4_NULL_RECIPES = {k: (_F4_PLANT[k],) + r[1:] for k, r in _F4_RECIPES.items()}
+_F4_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.0},
+              "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+              "position_ripple": lambda kw: kw | {"period": 1.3 * kw["period"], "phase": kw["phase"] - 0.8},
+              "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
 
 
 def fresh4_settings():
     """A fresh set (issue #30), fixed and committed before its first run, because fresh3 was used
-    to change the code: fresh3's 24 effect rows and 8 effect-free rows with each recipe on another
-    plant and sampling rate and new seeds (8000 + k); the effects' parameters as fresh3's, so the
-    effects' peak against the noise is what generation gives on the new plants (reported per row)."""
-    out = [_recipe_job(f"fresh4_null{k:02d}_{r}", r, 8000 + k, [], "none", _F4_RECIPES)
+    to change the code: fresh3's 24 effect rows at other sampling rates and seeds (8100 + k), the
+    gravity's phase, the asymmetry's and drift's sign and the ripple's period and phase changed;
+    eight effect-free rows on other plants and rates (seeds 8000 + k)."""
+    out = [_recipe_job(f"fresh4_null{k:02d}_{r}", r, 8000 + k, [], "none", _F4_NULL_RECIPES)
            for k, r in enumerate(FRESH3_NULL_RECIPES)]
-    out += [_recipe_job(f"fresh4_effect{k:02d}_{eid}_{r}", r, 8100 + k, [(eid, kw)], eid, _F4_RECIPES)
+    out += [_recipe_job(f"fresh4_effect{k:02d}_{eid}_{r}", r, 8100 + k,
+                        [(eid, _F4_VARIED.get(eid, dict)(dict(kw)))], eid, _F4_RECIPES)
             for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
     return out
 
