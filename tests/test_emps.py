@@ -16,7 +16,7 @@ import scipy.io
 from scipy.integrate import solve_ivp
 
 from lugre_jax.emps import (
-    CoulombViscous,
+    EmpsCoulombViscous,
     EmpsRun,
     PulseEntry,
     estimate_pulse_entry,
@@ -24,7 +24,7 @@ from lugre_jax.emps import (
     newey_west_cov,
     pulse_train,
     ExponentialMidpoint,
-    LuGre,
+    EmpsLuGre,
     RungeKutta,
     RunArrays,
     benchmark_score,
@@ -76,7 +76,7 @@ def test_closed_loop_matches_scipy():
     x0, hist = (0.0, 0.0, 0.0), (0.0, 0.0)
     q_ref, v_ref, vir_ref = _scipy_closed_loop(params, qg, f_ext, x0, hist, V_EPS)
     fine = RungeKutta(substeps=20)  # Tsit5, 50 us substeps
-    q, v, vir, ok = closed_loop(CoulombViscous(*params), qg, f_ext, jnp.array(x0), hist,
+    q, v, vir, ok = closed_loop(EmpsCoulombViscous(*params), qg, f_ext, jnp.array(x0), hist,
                                 gtau=GTAU, kp=KP, kv=KV, T=T, stepping=fine)
     assert bool(ok)
     # The tanh(v/1e-4) Coulomb term is stiff while |v| < ~1e-4 m/s (a reversal crosses it in
@@ -88,10 +88,10 @@ def test_closed_loop_matches_scipy():
     # the default stepping (Tsit5, 10 substeps; measured 3.3e-8 m) and the first-order
     # exponential-midpoint scheme (used for LuGre; second order, measured 1.9e-7 m), each within
     # its own order's tolerance
-    q_d, _, _, _ = closed_loop(CoulombViscous(*params), qg, f_ext, jnp.array(x0), hist, gtau=GTAU,
+    q_d, _, _, _ = closed_loop(EmpsCoulombViscous(*params), qg, f_ext, jnp.array(x0), hist, gtau=GTAU,
                                kp=KP, kv=KV, T=T)
     np.testing.assert_allclose(np.asarray(q_d), q_ref, rtol=0, atol=1e-7)
-    q_e, _, _, _ = closed_loop(CoulombViscous(*params), qg, f_ext, jnp.array(x0), hist, gtau=GTAU,
+    q_e, _, _, _ = closed_loop(EmpsCoulombViscous(*params), qg, f_ext, jnp.array(x0), hist, gtau=GTAU,
                                kp=KP, kv=KV, T=T, stepping=ExponentialMidpoint(substeps=10))
     np.testing.assert_allclose(np.asarray(q_e), q_ref, rtol=0, atol=1e-6)
     assert np.max(np.abs(np.asarray(q_e) - q_ref)) > np.max(np.abs(np.asarray(q) - q_ref))
@@ -99,7 +99,7 @@ def test_closed_loop_matches_scipy():
 
 def test_lugre_exponential_scheme_matches_stiff_scipy():
     """LuGre with stiff bristles (sigma0 = 2e6 N/m) against scipy's Radau on the same ZOH loop."""
-    m = LuGre(95.0, 200.0, 20.0, 25.0, 0.005, 2e6, 1e3, -3.0)
+    m = EmpsLuGre(95.0, 200.0, 20.0, 25.0, 0.005, 2e6, 1e3, -3.0)
     _, qg = _reference(200, seed=1)
     x = np.zeros(3)
     q1 = q2 = 0.0
@@ -129,7 +129,7 @@ def test_lugre_exponential_scheme_matches_stiff_scipy():
 
 def _write_run(path, n=3000, model=None, pulses=False, seed=0, noise=0.0):
     """A synthetic EMPS run made by the closed loop itself (optionally with a known pulse force)."""
-    model = model or CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
+    model = model or EmpsCoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
     t, qg = _reference(n, seed)
     f = np.zeros(n)
     if pulses:
@@ -188,7 +188,7 @@ def test_pulse_entry_on_the_estimation_runs_closed_loop():
     of delay at the plant, or 0.8 and 5 samples at the command): both recovered within their
     intervals; the closed loop with the estimate beats ignoring the pulses."""
     run = read_emps_mat(DATA)
-    model = CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
+    model = EmpsCoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
     p = pulse_train(run.n, T)
     for entry in (PulseEntry("plant", -0.64, 12), PulseEntry("command", 0.8, 5)):
         syn = make_pulse_run(run, model, p, entry, seed=1)
@@ -269,7 +269,7 @@ def test_pulses_are_a_known_input(tmp_path):
     """On a synthetic validation-like run made by the true model with pulses_N at unit gain, the
     true model reproduces it exactly only when the pulses are fed in as they entered (closed loop
     and the protocol's labelled variant)."""
-    truth = CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
+    truth = EmpsCoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
     run = read_emps_mat(_write_run(tmp_path / "val.mat", n=2000, model=truth, pulses=True))
     assert run.has_pulses and np.any(run.pulses_N != 0)
     data = RunArrays(run)
@@ -292,9 +292,9 @@ def _base_run(n, seed=0):
 
 
 PULSE_CASES = [  # (entry that made the run, model that made it)
-    (PulseEntry("plant", -0.64, 12), CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)),
-    (PulseEntry("plant", 1.7, 0), LuGre(95.0, 200.0, 20.0, 25.0, 0.005, 2e6, 1e3, -3.0)),
-    (PulseEntry("command", 0.8, 5), CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)),
+    (PulseEntry("plant", -0.64, 12), EmpsCoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)),
+    (PulseEntry("plant", 1.7, 0), EmpsLuGre(95.0, 200.0, 20.0, 25.0, 0.005, 2e6, 1e3, -3.0)),
+    (PulseEntry("command", 0.8, 5), EmpsCoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)),
 ]
 
 
@@ -328,7 +328,7 @@ def test_pulses_without_effect_are_not_established():
     'none', and the closed loop with it is the closed loop without pulses."""
     base = _base_run(12000, seed=1)
     p = pulse_train(base.n, T, amplitude=30.0, width_s=0.1, period_s=1.1, start_s=0.3)
-    model = CoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
+    model = EmpsCoulombViscous(95.1089, 203.5034, 20.3935, -3.1648)
     run = make_pulse_run(base, model, p, PulseEntry("plant", 0.0, 0), seed=4)
     est = estimate_pulse_entry(run)
     assert not est.established and est.entry.location == "none", est.reason
@@ -418,7 +418,7 @@ def test_vmap_over_parameter_sets_and_gradient():
     P = jnp.array([[95.0, 200.0, 20.0, -3.0], [90.0, 210.0, 18.0, 0.0], [100.0, 190.0, 22.0, 2.0]])
 
     def sim(p):
-        return closed_loop(CoulombViscous.from_vector(p), qg, f, jnp.zeros(3), (0.0, 0.0), gtau=GTAU, kp=KP,
+        return closed_loop(EmpsCoulombViscous.from_vector(p), qg, f, jnp.zeros(3), (0.0, 0.0), gtau=GTAU, kp=KP,
                            kv=KV, T=T)[2]
 
     batched = jax.vmap(sim)(P)

@@ -39,12 +39,12 @@ def main(argv=None):
     lugre_jax.configure()
     import numpy as np
 
-    from lugre_jax.emps import (AsymmetricLuGreRipple, CoulombViscous, PulseEntry, RunArrays, closed_loop_score,
+    from lugre_jax.emps import (AsymmetricLuGreRipple, EmpsCoulombViscous, PulseEntry, RunArrays, closed_loop_score,
                                 estimate_pulse_entry, make_pulse_run, pulse_train, read_emps_mat)
     from lugre_jax.io import write_json
 
     run = read_emps_mat(a.data)
-    published = CoulombViscous.reference()
+    published = EmpsCoulombViscous.reference()
     # a plant unlike the regression's structure: bristles, Stribeck, ripple (fitted values, docs/emps.md)
     lugre = AsymmetricLuGreRipple(95.14, 157.4, 21.22, 230.9, 21.46, 14.73, 0.0146, 1.47e6, 3.9e3, 0.4, 0.38,
                                   2.4723e-3)

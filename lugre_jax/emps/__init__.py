@@ -31,9 +31,9 @@ from ._models import (
     AsymmetricPositionFriction as AsymmetricPositionFriction,
     AsymmetricPositionLuGre as AsymmetricPositionLuGre,
     AsymmetricRipple as AsymmetricRipple,
-    CoulombViscous as CoulombViscous,
-    LuGre as LuGre,
-    Stribeck as Stribeck,
+    EmpsCoulombViscous as EmpsCoulombViscous,
+    EmpsLuGre as EmpsLuGre,
+    EmpsStribeck as EmpsStribeck,
 )
 from ._pipeline import (
     PROTOCOL as PROTOCOL,
@@ -62,7 +62,7 @@ from ._score import (
 )
 from ._simulate import (
     VIR_MAX as VIR_MAX,
-    AbstractStepping as AbstractStepping,
+    AbstractSubstepping as AbstractSubstepping,
     ExponentialMidpoint as ExponentialMidpoint,
     RungeKutta as RungeKutta,
     closed_loop as closed_loop,

@@ -36,7 +36,7 @@ from ..io import EmpsRun
 from ._idim import N_BORDER, filtered_kinematics, sample_period
 from ._models import AbstractEmpsModel
 from ._pulses import IGNORED, PulseEntry
-from ._simulate import AbstractStepping, closed_loop, fit_stepping, open_loop
+from ._simulate import AbstractSubstepping, closed_loop, fit_stepping, open_loop
 
 
 #: Termination of the fits: converged when an accepted step lowers the sum of squares by less than
@@ -115,7 +115,7 @@ class RunArrays:
 
 
 def closed_loop_window(model, data: RunArrays, start: int, stop: int, *, pulses: PulseEntry = IGNORED,
-                       stepping: AbstractStepping | None = None):
+                       stepping: AbstractSubstepping | None = None):
     """Closed-loop simulation of samples ``start:stop`` from the measured state at ``start``:
     ``(q, v, force, ok)`` with force = gtau*vir_sim. ``pulses`` says how the run's ``pulses_N``
     enters (default: not at all)."""
@@ -162,7 +162,7 @@ def _least_squares(residual, model0: AbstractEmpsModel, max_steps: int, rtol: fl
 
 
 def fit_closed_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: int, *,
-                    stepping: AbstractStepping | None = None, max_steps: int = FIT_MAX_STEPS,
+                    stepping: AbstractSubstepping | None = None, max_steps: int = FIT_MAX_STEPS,
                     rtol: float = FIT_RTOL, atol: float = FIT_ATOL) -> FitResult:
     """Fit ``model0``'s parameters to samples ``start:stop`` in closed loop (module docstring)."""
     stepping = fit_stepping(model0) if stepping is None else stepping
@@ -188,7 +188,7 @@ def segment_starts(start: int, stop: int, n_segments: int, segment_len: int) -> 
 
 
 def open_loop_segments(model, data: RunArrays, starts, segment_len: int, *, pulses: PulseEntry = IGNORED,
-                       stepping: AbstractStepping | None = None):
+                       stepping: AbstractSubstepping | None = None):
     """Open-loop (vir-driven) simulations of ``segment_len`` samples from each start, vmapped:
     ``(q, ok)`` of shape (n_segments, segment_len). Pulses entering at the plant are added as a
     force; at the command they are already in the logged ``vir``."""
@@ -208,7 +208,7 @@ def open_loop_segments(model, data: RunArrays, starts, segment_len: int, *, puls
 
 def fit_open_loop(model0: AbstractEmpsModel, data: RunArrays, start: int, stop: int, *,
                   n_segments: int = 4, segment_len: int | None = None,
-                  stepping: AbstractStepping | None = None,
+                  stepping: AbstractSubstepping | None = None,
                   max_steps: int = FIT_MAX_STEPS, rtol: float = FIT_RTOL, atol: float = FIT_ATOL,
                   fixed: tuple[str, ...] = ()) -> FitResult:
     """Truncated-simulation-error fit for the benchmark protocol (module docstring); residual in mm.

@@ -12,6 +12,11 @@ at reversals and gives no useful gradient; 0.1 mm/s is below the velocity resolu
 filter at 1 kHz (encoder step 50 nm -> 25 um/s) times a few, so the fitted Coulomb level is the
 benchmark's. ``v_eps`` is a static field, not identified.
 
+These are plant models, not :mod:`lugre_jax.friction`'s laws: each carries the mass, SI bounds and
+the smooth sign, and the three whose friction law shares a name there are called
+:class:`EmpsCoulombViscous`, :class:`EmpsStribeck` and :class:`EmpsLuGre` (their Stribeck level is
+:func:`lugre_jax.friction.stribeck_g`).
+
 Laws with a bristle state give :meth:`AbstractEmpsModel.bristle_terms` (``sigma0``, ``sigma1``,
 the Stribeck level ``g(v)`` and the non-bristle force), from which the simulator builds both the
 LuGre right-hand side and its exact-exponential bristle update (see ``_simulate``). Fitted sets
@@ -100,7 +105,7 @@ class AbstractEmpsModel(eqx.Module):
         return _sgn(v, V_EPS) * g / s0
 
 
-class CoulombViscous(AbstractEmpsModel):
+class EmpsCoulombViscous(AbstractEmpsModel):
     """The benchmark's model: ``F = Fv*v + Fc*sign(v) + offset``."""
 
     label: ClassVar[str] = "coulomb_viscous"
@@ -138,7 +143,7 @@ class AsymmetricCoulombViscous(AbstractEmpsModel):
         return cls(95.1540, 166.71, 20.14, 240.42, 20.63)
 
 
-class Stribeck(AbstractEmpsModel):
+class EmpsStribeck(AbstractEmpsModel):
     """``F = Fv*v + sign(v)*(Fc + (Fs - Fc)*exp(-(v/vs)^2)) + offset``."""
 
     label: ClassVar[str] = "stribeck"
@@ -157,7 +162,7 @@ class Stribeck(AbstractEmpsModel):
         return cls(95.1089, 203.5034, 20.3935, 24.0, 0.005, -3.1648)
 
 
-class LuGre(AbstractEmpsModel):
+class EmpsLuGre(AbstractEmpsModel):
     """LuGre (bristle state ``z`` [m]) + offset: ``F = sigma0*z + sigma1*dz/dt + Fv*v + offset``,
     ``dz/dt = v - sigma0*|v|*z/g(v)``, ``g`` the Stribeck level. Stiff: the bristle rate
     ``sigma0*|v|/g`` reaches ~1e4-1e5 1/s, so ``z`` is advanced by its exact exponential."""
@@ -325,10 +330,10 @@ class AsymmetricPositionLuGre(AbstractEmpsModel):
 
 
 MODELS: tuple[type[AbstractEmpsModel], ...] = (
-    CoulombViscous, AsymmetricCoulombViscous, Stribeck, LuGre, AsymmetricRipple, AsymmetricLuGreRipple,
+    EmpsCoulombViscous, AsymmetricCoulombViscous, EmpsStribeck, EmpsLuGre, AsymmetricRipple, AsymmetricLuGreRipple,
     AsymmetricPositionFriction, AsymmetricPositionLuGre)
 
 #: What ``lugre-jax emps`` fits by default: the published structure, its asymmetric variant and the
 #: position-dependent laws (static and with bristles; docs/emps.md); ``--full`` fits :data:`MODELS`.
 DEFAULT_MODELS: tuple[type[AbstractEmpsModel], ...] = (
-    CoulombViscous, AsymmetricCoulombViscous, AsymmetricPositionFriction, AsymmetricPositionLuGre)
+    EmpsCoulombViscous, AsymmetricCoulombViscous, AsymmetricPositionFriction, AsymmetricPositionLuGre)

@@ -28,7 +28,7 @@ import numpy as np
 from ..io import EmpsRun
 from ._fit import FIT_MAX_STEPS, FitResult, RunArrays, fit_closed_loop, fit_open_loop
 from ._idim import IdimResult, idim_ls
-from ._models import DEFAULT_MODELS, MODELS, AbstractEmpsModel, AsymmetricCoulombViscous, CoulombViscous
+from ._models import DEFAULT_MODELS, MODELS, AbstractEmpsModel, AsymmetricCoulombViscous, EmpsCoulombViscous
 from ._pulses import PLANT, UNIT_GAIN, PulseEstimate, estimate_pulse_entry, newey_west_cov
 from ._score import N_INIT, BenchmarkScore, ClosedLoopScore, benchmark_score, closed_loop_score
 
@@ -284,7 +284,7 @@ def identify_emps(run: EmpsRun, validation: EmpsRun | None = None, *,
     n_total = 2 * len(models)
     done = 0
     reference = {}
-    for key, cls in (("symmetric", CoulombViscous), ("asymmetric", AsymmetricCoulombViscous)):
+    for key, cls in (("symmetric", EmpsCoulombViscous), ("asymmetric", AsymmetricCoulombViscous)):
         m = cls.from_dict(idim[key].params)
         reference[key] = {"model": m, "closed_loop": _scores(m, est, cut, val, pulses),
                           "benchmark": _bench(m, est, cut, val, pulses)}

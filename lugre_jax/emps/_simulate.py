@@ -33,7 +33,7 @@ from ._models import AbstractEmpsModel
 VIR_MAX = 10.0  # V, the drive's saturation
 
 
-class AbstractStepping(eqx.Module):
+class AbstractSubstepping(eqx.Module):
     substeps: eqx.AbstractVar[int]
 
     @abc.abstractmethod
@@ -52,7 +52,7 @@ def _rhs(model: AbstractEmpsModel, x, u):
     return jnp.stack([v, (u - F) * (1.0 / model.M), dz])
 
 
-class RungeKutta(AbstractStepping):
+class RungeKutta(AbstractSubstepping):
     """``substeps`` steps of an explicit diffrax solver per sample."""
 
     solver: diffrax.AbstractSolver = diffrax.Tsit5()
@@ -81,7 +81,7 @@ class RungeKutta(AbstractStepping):
         return jax.lax.fori_loop(0, self.substeps, body, x, unroll=True)
 
 
-class ExponentialMidpoint(AbstractStepping):
+class ExponentialMidpoint(AbstractSubstepping):
     """Exact bristle exponential + explicit-midpoint mass step, ``substeps`` per sample.
 
     Over a substep of length ``h`` the bristle equation ``dz/dt = v - a*z``, ``a = sigma0*|v|/g(v)``,
@@ -116,11 +116,11 @@ class ExponentialMidpoint(AbstractStepping):
         return jax.lax.fori_loop(0, self.substeps, body, x, unroll=True)
 
 
-def default_stepping(model: AbstractEmpsModel) -> AbstractStepping:
+def default_stepping(model: AbstractEmpsModel) -> AbstractSubstepping:
     return ExponentialMidpoint() if model.has_state else RungeKutta()
 
 
-def fit_stepping(model: AbstractEmpsModel) -> AbstractStepping:
+def fit_stepping(model: AbstractEmpsModel) -> AbstractSubstepping:
     """The stepping of the output-error fits: for static laws Tsit5 with 2 substeps, whose error
     against the 10-substep default over a free simulation of the whole estimation run is bounded
     in tests/test_emps.py far below the millimetre errors being fitted, at a fraction of the cost;
@@ -129,7 +129,7 @@ def fit_stepping(model: AbstractEmpsModel) -> AbstractStepping:
 
 
 def closed_loop(model: AbstractEmpsModel, qg, f_ext, x0, history, *, gtau: float, kp: float,
-                kv: float, T: float, stepping: AbstractStepping | None = None, u_cmd=None):
+                kv: float, T: float, stepping: AbstractSubstepping | None = None, u_cmd=None):
     """Simulate the loop driven by the reference ``qg`` (n,) and the external force ``f_ext`` (n,) [N].
 
     ``u_cmd`` (n,) [V], optional, is added to the controller's output before the saturation (a
@@ -158,7 +158,7 @@ def closed_loop(model: AbstractEmpsModel, qg, f_ext, x0, history, *, gtau: float
 
 
 def open_loop(model: AbstractEmpsModel, vir, f_ext, x0, *, gtau: float, T: float,
-              stepping: AbstractStepping | None = None):
+              stepping: AbstractSubstepping | None = None):
     """The benchmark protocol: driven by the recorded ``vir`` (n,) [V] (+ ``f_ext`` [N]) from ``x0``.
 
     Returns ``(q, v, ok)`` (n,) at the sample instants; ``q[0] = x0[0]``.
