@@ -104,7 +104,8 @@ def main(argv=None):
     ap.add_argument("--scipy-lanes", type=int, default=20)
     ap.add_argument("--tight-lanes", type=int, default=None, help="lanes scored against the tight solve")
     ap.add_argument("--rows", default="default,lane,bosh3,tsit5,exp,exp5",
-                    help="batched rows to run (also: adaptive, lane, tsit2, exp2, tsit1, exp1, tsit05, exp05)")
+                    help="batched rows to run (also: adaptive, lane, tsit2, exp2, tsit125, exp125, tsit1, exp1, "
+                         "tsit0625, exp0625, tsit05, exp05)")
     ap.add_argument("--stiff", action="store_true", help="stiff bristles: sigma0 in [1e3, 1e4], sigma1 in [2.3, 30]")
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
@@ -145,6 +146,12 @@ def main(argv=None):
                "tsit2": ("FixedStep(Tsit5(), dt=0.002)", lj.FixedStep(diffrax.Tsit5(), dt=0.002)),
                "exp2": ("ExponentialBristle(Tsit5(), dt=0.002)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.002)),
                "exp5": ("ExponentialBristle(Tsit5(), dt=0.005)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.005)),
+               "tsit125": ("FixedStep(Tsit5(), dt=0.00125)", lj.FixedStep(diffrax.Tsit5(), dt=0.00125)),
+               "exp125": ("ExponentialBristle(Tsit5(), dt=0.00125)",
+                          lj.ExponentialBristle(diffrax.Tsit5(), dt=0.00125)),
+               "tsit0625": ("FixedStep(Tsit5(), dt=0.000625)", lj.FixedStep(diffrax.Tsit5(), dt=0.000625)),
+               "exp0625": ("ExponentialBristle(Tsit5(), dt=0.000625)",
+                           lj.ExponentialBristle(diffrax.Tsit5(), dt=0.000625)),
                "exp1": ("ExponentialBristle(Tsit5(), dt=0.001)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.001)),
                "tsit1": ("FixedStep(Tsit5(), dt=0.001)", lj.FixedStep(diffrax.Tsit5(), dt=0.001)),
                "exp05": ("ExponentialBristle(Tsit5(), dt=0.0005)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.0005)),
