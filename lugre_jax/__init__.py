@@ -12,6 +12,7 @@ Nothing process-wide changes on import: call :func:`configure` first (float64, X
 
 from .xla import configure as configure
 from ._params import bounds_of as bounds_of, names_of as names_of, units_of as units_of
+from ._results import RESULTS as RESULTS, result_name as result_name
 from ._simulation import (
     RESULT_NONFINITE as RESULT_NONFINITE,
     RESULT_OK as RESULT_OK,

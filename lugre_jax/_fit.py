@@ -6,7 +6,8 @@ Problem: minimise ``1/2*|r(x)|^2`` over ``lower <= x <= upper`` for a residual f
 * Solver: ``optimistix.LevenbergMarquardt`` on unconstrained coordinates ``u`` with ``x = T(u)``
   (:class:`BoxTransform`: a sigmoid onto a finite box, a softplus onto a half-line, the identity on
   an unbounded component; :class:`LogTransform`: ``x = exp(u)`` for positive parameters whose scale
-  is unknown). Runs with ``throw=False``: a failure is an ``optimistix.RESULTS`` code, never a NaN.
+  is unknown). Runs with ``throw=False``: a failure is a :class:`lugre_jax._results.RESULTS` item
+  (optimistix's codes, promoted), never a NaN.
   :func:`least_squares` is jittable and vmappable.
 * Covariance: Gauss-Newton, ``C = s^2*(J^T J)^-1`` with ``J = dr/dx`` (forward mode: few parameters,
   many residuals) and ``s^2`` the residual variance ``|r|^2/(n - p)`` (``absolute_sigma=True``:
@@ -31,6 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
+from ._results import RESULTS, promote, result_name  # noqa: F401  (result_name: re-exported)
 from ._types import Array, Float
 
 ResidualFn = Callable[[Float[Array, " p"]], Float[Array, " n"]]
@@ -236,19 +238,20 @@ def covariance(jac, residual, *, absolute_sigma: bool = False, variance_floor: f
 @dataclasses.dataclass(frozen=True)
 class Fit:
     """A bounded least-squares estimate: ``params``, their ``standard_errors`` (``inf`` on a bound
-    or along an uninformed direction), the solver's ``result`` (an ``optimistix.RESULTS`` item),
+    or along an uninformed direction), the solver's ``result`` (a :class:`lugre_jax._results.RESULTS`
+    item),
     ``loss = 1/2*|r|^2`` at ``params``, the solver's ``n_steps`` and the :class:`Covariance`."""
 
     params: np.ndarray
     standard_errors: np.ndarray
-    result: optx.RESULTS
+    result: RESULTS
     loss: float
     n_steps: int
     covariance: Covariance
 
     @property
     def successful(self) -> bool:
-        return bool(self.result == optx.RESULTS.successful)
+        return bool(self.result == RESULTS.successful)
 
     def to_json(self) -> dict:
         return dict(params=self.params.tolist(), standard_errors=self.standard_errors.tolist(),
@@ -278,16 +281,5 @@ def fit(residual_fn: ResidualFn, x0, lower=None, upper=None, *, transform: Abstr
     r = np.asarray(residual_fn(jnp.asarray(x)))
     cov = covariance(jacobian(residual_fn, x), r, absolute_sigma=absolute_sigma, variance_floor=variance_floor,
                      at_bound=at_bounds(x, lo, hi))
-    return Fit(x, cov.standard_errors, sol.result, float(0.5 * np.sum(r**2)), int(sol.stats["num_steps"]), cov)
-
-
-def result_name(code) -> str:
-    """Name of an ``optimistix.RESULTS`` item from it or its integer index (e.g. ``"successful"``)."""
-    if isinstance(code, optx.RESULTS):
-        code = code._value
-    idx = int(jnp.asarray(code))
-    for name, item in optx.RESULTS._name_to_item.items():
-        if int(item._value) == idx:
-            return name
-    return f"unknown({idx})"
-
+    return Fit(x, cov.standard_errors, promote(sol.result), float(0.5 * np.sum(r**2)), int(sol.stats["num_steps"]),
+               cov)

@@ -244,7 +244,8 @@ def test_library_subpackages_import_only_public_names_of_each_other():
 #: formats) imports none of the package; ``scenario`` builds systems above the simulator.
 LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"_types"}),
-    frozenset({"_params", "_fusion", "_fit", "xla", "metrics", "io"}),
+    frozenset({"_params", "_fusion", "_results", "xla", "metrics", "io"}),
+    frozenset({"_fit"}),
     frozenset({"friction"}),
     frozenset({"plant", "control"}),
     frozenset({"_simulation"}),

@@ -29,9 +29,9 @@ import time
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
 from .. import _fit
+from .._results import RESULTS, result_name
 from ..io import EmpsRun
 from ._idim import N_BORDER, filtered_kinematics, sample_period
 from ._models import AbstractEmpsModel
@@ -54,7 +54,7 @@ FIT_MAX_STEPS = 200
 class FitResult:
     """A fitted model, its standard errors (name -> value, physical units; 0 for a parameter held
     fixed), the final objective ``loss`` (sum of squared residuals), the solver's steps
-    (``n_steps``), wall time and the solver's ``result`` (an ``optimistix.RESULTS`` item).
+    (``n_steps``), wall time and the solver's ``result`` (a :class:`lugre_jax._results.RESULTS` item).
     ``status`` names it: ``"converged"``, ``"step limit"`` (stopped at ``max_steps``) or
     ``"failed"`` (any other result, or a simulation that is not finite at the estimate)."""
 
@@ -63,16 +63,16 @@ class FitResult:
     loss: float
     n_steps: int
     time_s: float
-    result: optx.RESULTS
+    result: RESULTS
     protocol: str
     max_steps: int = FIT_MAX_STEPS
     finite: bool = True
 
     @property
     def status(self) -> str:
-        if self.finite and self.result == optx.RESULTS.successful:
+        if self.finite and self.result == RESULTS.successful:
             return "converged"
-        if self.finite and self.result == optx.RESULTS.nonlinear_max_steps_reached:
+        if self.finite and self.result == RESULTS.nonlinear_max_steps_reached:
             return "step limit"
         return "failed"
 
@@ -90,7 +90,7 @@ class FitResult:
         return {"protocol": self.protocol, "params": self.model.to_dict(), "std": dict(self.std),
                 "units": {jn.get(k, k): u for k, u in units.items()}, "loss": self.loss,
                 "steps": self.n_steps, "max_steps": self.max_steps, "fit_time_s": self.time_s,
-                "result": _fit.result_name(self.result), "status": self.status}
+                "result": result_name(self.result), "status": self.status}
 
 
 class RunArrays:

@@ -17,6 +17,7 @@ import dataclasses
 import jax.numpy as jnp
 import numpy as np
 
+from .._results import RESULTS
 from ._fit import RunArrays, closed_loop_window
 from ._idim import N_BORDER
 from ._models import AbstractEmpsModel
@@ -26,6 +27,10 @@ from ._simulate import open_loop
 N_INIT = 20  # samples the benchmark protocol lets the model use to set its state
 
 
+def _result(ok: bool) -> RESULTS:
+    return RESULTS.successful if ok else RESULTS.nonfinite
+
+
 def rel_err_pct(meas, sim) -> float:
     meas, sim = np.asarray(meas), np.asarray(sim)
     return float(100 * np.linalg.norm(meas - sim) / np.linalg.norm(meas))
@@ -33,10 +38,13 @@ def rel_err_pct(meas, sim) -> float:
 
 @dataclasses.dataclass(frozen=True)
 class ClosedLoopScore:
+    """Closed-loop errors [%]; ``result`` is ``RESULTS.successful``, or ``RESULTS.nonfinite`` for a
+    simulation that is not finite (its errors are then +inf). JSON: ``ok`` = successful."""
+
     position_pct: float
     velocity_pct: float
     force_pct: float
-    ok: bool
+    result: RESULTS
     t: np.ndarray = dataclasses.field(repr=False)
     q: np.ndarray = dataclasses.field(repr=False)
     q_sim: np.ndarray = dataclasses.field(repr=False)
@@ -50,13 +58,20 @@ class ClosedLoopScore:
         return {"position_pct": self.position_pct, "velocity_pct": self.velocity_pct,
                 "force_pct": self.force_pct, "ok": self.ok, "n_samples": int(self.t.shape[0])}
 
+    @property
+    def ok(self) -> bool:
+        return bool(self.result == RESULTS.successful)
+
 
 @dataclasses.dataclass(frozen=True)
 class BenchmarkScore:
+    """The protocol's RMSE [mm], R² and fit index [%]; ``result`` as :class:`ClosedLoopScore`'s
+    (a non-finite simulation scores RMSE +inf, R² and fit index -inf)."""
+
     rmse_mm: float
     r2: float
     fit_index: float
-    ok: bool
+    result: RESULTS
     t: np.ndarray = dataclasses.field(repr=False)
     y: np.ndarray = dataclasses.field(repr=False)
     y_sim: np.ndarray = dataclasses.field(repr=False)
@@ -64,6 +79,10 @@ class BenchmarkScore:
     def to_json(self) -> dict:
         return {"rmse_mm": self.rmse_mm, "r2": self.r2, "fit_index": self.fit_index, "ok": self.ok,
                 "n_samples": int(self.t.shape[0])}
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.result == RESULTS.successful)
 
 
 def closed_loop_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0, stop: int | None = None,
@@ -79,7 +98,7 @@ def closed_loop_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0,
     inf = float("inf")  # a failed simulation scores +inf, never NaN
     return ClosedLoopScore(
         rel_err_pct(data.q_f[w], q) if ok else inf, rel_err_pct(data.dq_f[w], v) if ok else inf,
-        rel_err_pct(data.force[w], f) if ok else inf, ok,
+        rel_err_pct(data.force[w], f) if ok else inf, _result(ok),
         data.run.t[w], data.q_f[w], q, data.dq_f[w], v, data.force[w], f, data.run.qm[w])
 
 
@@ -105,9 +124,9 @@ def benchmark_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0, s
     y, yh = r.qm[a + 1:stop], np.asarray(q)[1:]
     ok = bool(ok)
     if not ok:
-        return BenchmarkScore(float("inf"), float("-inf"), float("-inf"), False, r.t[a + 1:stop], y, yh)
+        return BenchmarkScore(float("inf"), float("-inf"), float("-inf"), RESULTS.nonfinite, r.t[a + 1:stop], y, yh)
     e = y - yh
     return BenchmarkScore(float(1e3 * np.sqrt(np.mean(e * e))),
                           float(1 - np.sum(e * e) / np.sum((y - y.mean()) ** 2)),
-                          float(100 * (1 - np.linalg.norm(e) / np.linalg.norm(y - y.mean()))), True,
+                          float(100 * (1 - np.linalg.norm(e) / np.linalg.norm(y - y.mean()))), RESULTS.successful,
                           r.t[a + 1:stop], y, yh)

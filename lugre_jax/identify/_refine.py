@@ -16,7 +16,8 @@ import equinox as eqx
 import jax.numpy as jnp
 import optimistix as optx
 
-from .._fit import BoxTransform, least_squares, result_name
+from .._fit import BoxTransform, least_squares
+from .._results import RESULTS, promote, result_name
 from .._types import Array, Float, Int, Scalar
 from ._fitness import LossFn, ResidualFn, finite_or_inf, half_sse
 
@@ -26,15 +27,15 @@ __all__ = ["BoxTransform", "Refine", "RefineResult", "result_name"]
 class RefineResult(eqx.Module):
     """Outcome of one refinement.
 
-    ``result`` is the integer index of an ``optimistix.RESULTS`` item (0 = successful; name it with
-    :func:`result_name`). An int array, so it stacks under vmap and converts to numpy.
+    ``result`` is a :class:`lugre_jax._results.RESULTS` item (the solver's optimistix code, promoted;
+    ``result == RESULTS.successful``, named by :func:`result_name`); it stacks under vmap.
     """
 
     x: Float[Array, " dim"]
     loss: Scalar
     x0: Float[Array, " dim"]
     loss0: Scalar
-    result: Int[Array, ""]
+    result: RESULTS
     n_steps: Int[Array, ""]
     n_evals: Int[Array, ""]
 
@@ -91,5 +92,5 @@ class Refine(eqx.Module):
         loss = jnp.where(keep, loss0, loss)
         n_steps = jnp.asarray(sol.stats["num_steps"])
         n_evals = n_steps * (1 + x0.shape[0]) + 2
-        return RefineResult(x, loss, x0, loss0, sol.result._value, n_steps, n_evals)
+        return RefineResult(x, loss, x0, loss0, promote(sol.result), n_steps, n_evals)
 

@@ -23,6 +23,7 @@ from ._ga import GA, RealGA
 from ._gapso import GAPSO
 from ._optimiser import AbstractOptimiser, minimise
 from ._pso import PSO
+from .._results import result_codes as codes_of
 from ._refine import Refine, result_name
 
 METHODS = ("ga", "ga_real", "pso", "gapso", "cmaes", "de", "lm", "bfgs", "scipy_lsq")
@@ -235,7 +236,7 @@ def optimise(
             x_g, l_g = np.asarray(r.x), np.asarray(r.loss)
             hist = np.stack([np.asarray(r.loss0), l_g], axis=1)
             evals = np.stack([np.ones(n_seeds, int), np.asarray(r.n_evals)], axis=1)
-            codes = np.asarray(r.result)
+            codes = codes_of(r.result)
         x, loss, n_evals = x_g, l_g, evals[:, -1]
         result_codes = codes
     else:
@@ -256,7 +257,7 @@ def optimise(
         rr, comp2, wall2 = _timed_jit(polish, jnp.asarray(x_g))
         x, loss = np.asarray(rr.x), np.asarray(rr.loss)
         n_evals = n_evals + np.asarray(rr.n_evals)
-        result_codes = np.asarray(rr.result)
+        result_codes = codes_of(rr.result)
         comp, wall = comp + comp2, wall + wall2
 
     return OptimResult(
