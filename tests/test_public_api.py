@@ -114,6 +114,13 @@ def violations(rel: str, repo: Path = REPO) -> list[str]:
     return bad
 
 
+def _write_tree(root: Path, files: dict[str, str]) -> None:
+    """Hand-made files (relative path -> source) under ``root``, for the checkers' own tests."""
+    for rel, text in files.items():
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        (root / rel).write_text(text)
+
+
 def test_the_checker_sees_private_imports(tmp_path):
     # an independent hand-made case per rule, so the real test cannot pass by seeing nothing
     files = {
@@ -124,9 +131,7 @@ def test_the_checker_sees_private_imports(tmp_path):
                                      "from .._simulation import simulate\nfrom .. import simulate\n",
         "lugre_jax/_cli/z.py": "from ._args import parse\nfrom ..identify import identify\nfrom .._bench import run\n",
     }
-    for rel, text in files.items():
-        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / rel).write_text(text)
+    _write_tree(tmp_path, files)
     got = {rel: [v.split(": ", 1)[1] for v in violations(rel, tmp_path)] for rel in files}
     assert got["experiments/x/run.py"] == ["from lugre_jax.identify._schemes import identify", "import lugre_jax._params",
                                            "from lugre_jax.diagnose import _model as M", "lj._params"]
@@ -217,9 +222,7 @@ def test_the_library_checker_sees_boundary_crossings(tmp_path):
         "lugre_jax/metrics.py": "from .io._atomic import write_json\nfrom ._params import param\n",
         "lugre_jax/dynamic/_z.py": "from .._fit import least_squares\nfrom ..identify._refine import BoxTransform\n",
     }
-    for rel, text in files.items():
-        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / rel).write_text(text)
+    _write_tree(tmp_path, files)
     got = {rel: [v[1].split(": ", 1)[1] for v in library_violations(rel, tmp_path)] for rel in files}
     assert got["lugre_jax/identify/_x.py"] == [
         "from ..io._stribeck_data import StribeckData", "from ..io import _validate",
@@ -288,9 +291,7 @@ def test_the_layer_checker_sees_upward_imports(tmp_path):
         "lugre_jax/identify/_w.py": "from ..emps import idim_ls\nfrom ..scenario import load_scenario\nfrom ..io import read_json\n",
         "lugre_jax/_simulation/_v.py": "from ..scenario import load_scenario\nimport lugre_jax.plant\n",
     }
-    for rel, text in files.items():
-        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / rel).write_text(text)
+    _write_tree(tmp_path, files)
     got = {rel: [v.split(": ", 1)[1] for v in layer_violations(rel, tmp_path)] for rel in files}
     assert got == {
         "lugre_jax/io/_x.py": ["from .._simulation import System"],

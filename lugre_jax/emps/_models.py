@@ -122,10 +122,17 @@ class EmpsCoulombViscous(AbstractEmpsModel):
         return cls(95.1089, 203.5034, 20.3935, -3.1648)
 
 
-class AsymmetricCoulombViscous(AbstractEmpsModel):
-    """Direction-dependent viscous and Coulomb levels (the benchmark's asymmetric script: no offset)."""
+def _directions(v):
+    """Weights of motion in the positive and negative direction, ``(1 + s)/2`` and ``(1 - s)/2`` with
+    the smooth sign ``s``."""
+    s = _sgn(v, V_EPS)
+    return 0.5 * (1 + s), 0.5 * (1 - s)
 
-    label: ClassVar[str] = "asymmetric"
+
+class AbstractAsymmetric(AbstractEmpsModel):
+    """Laws with direction-dependent viscous and Coulomb levels: the mass and ``Fv+``, ``Fc+``,
+    ``Fv-``, ``Fc-`` come first, a subclass's own parameters after them."""
+
     json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}
     M: jnp.ndarray = param("kg", 50.0, 200.0)
     Fv_pos: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
@@ -133,9 +140,31 @@ class AsymmetricCoulombViscous(AbstractEmpsModel):
     Fv_neg: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
     Fc_neg: jnp.ndarray = param("N", 0.0, 100.0)
 
+
+class AbstractAsymmetricPosition(AbstractAsymmetric):
+    """Asymmetric laws whose Coulomb level changes along the travel by ``c(q) = c1*x + c2*x^2``, plus
+    a force ``k*(q - Q_MID)``, with ``x = (q - Q_MID)/HALF_TRAVEL`` (-1..1 over the recorded
+    0-0.25 m; :class:`AsymmetricPositionFriction`)."""
+
+    Q_MID: ClassVar[float] = 0.125  # m, middle of the recorded travel
+    HALF_TRAVEL: ClassVar[float] = 0.125  # m
+    c1: jnp.ndarray = param("N", -20.0, 20.0)
+    c2: jnp.ndarray = param("N", -20.0, 20.0)
+    k: jnp.ndarray = param("N/m", -200.0, 200.0)
+
+    def _travel(self, q):
+        """``(q - Q_MID, x)``."""
+        d = q - self.Q_MID
+        return d, d * (1.0 / self.HALF_TRAVEL)
+
+
+class AsymmetricCoulombViscous(AbstractAsymmetric):
+    """Direction-dependent viscous and Coulomb levels (the benchmark's asymmetric script: no offset)."""
+
+    label: ClassVar[str] = "asymmetric"
+
     def friction(self, q, v, z):
-        s = _sgn(v, V_EPS)
-        wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
+        wp, wn = _directions(v)
         return wp * (self.Fv_pos * v + self.Fc_pos) - wn * (self.Fc_neg - self.Fv_neg * v)
 
     @classmethod
@@ -187,25 +216,18 @@ class EmpsLuGre(AbstractEmpsModel):
         return cls(95.1089, 203.5034, 20.3935, 24.0, 0.005, 2e6, 1e3, -3.1648)
 
 
-class AsymmetricRipple(AbstractEmpsModel):
+class AsymmetricRipple(AbstractAsymmetric):
     """What ``diagnose`` names on EMPS: direction-dependent friction (offset kept) plus a
     position-periodic force ``a_sin*sin(2*pi*q/period) + a_cos*cos(2*pi*q/period)`` (period
     ~2.47 mm: screw-lead/cogging ripple). Backlash (a ~25 um dead band) is not modelled here."""
 
     label: ClassVar[str] = "asymmetric_ripple"
-    json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}
-    M: jnp.ndarray = param("kg", 50.0, 200.0)
-    Fv_pos: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_pos: jnp.ndarray = param("N", 0.0, 100.0)
-    Fv_neg: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_neg: jnp.ndarray = param("N", 0.0, 100.0)
     a_sin: jnp.ndarray = param("N", -10.0, 10.0)
     a_cos: jnp.ndarray = param("N", -10.0, 10.0)
     period: jnp.ndarray = param("m", 2.3e-3, 2.65e-3)
 
     def friction(self, q, v, z):
-        s = _sgn(v, V_EPS)
-        wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
+        wp, wn = _directions(v)
         w = 2 * jnp.pi * q * (1.0 / self.period)
         return (wp * (self.Fv_pos * v + self.Fc_pos) - wn * (self.Fc_neg - self.Fv_neg * v)
                 + self.a_sin * jnp.sin(w) + self.a_cos * jnp.cos(w))
@@ -215,7 +237,7 @@ class AsymmetricRipple(AbstractEmpsModel):
         return cls(95.1540, 166.71, 20.14, 240.42, 20.63, 0.0, 0.0, 2.47e-3)
 
 
-class AsymmetricLuGreRipple(AbstractEmpsModel):
+class AsymmetricLuGreRipple(AbstractAsymmetric):
     """The richest law here, a dozen parameters: LuGre bristles whose Coulomb level and viscous
     coefficient depend on the direction (``Fc+``/``Fc-``, ``Fv+``/``Fv-``, shared ``Fs``, ``vs``),
     plus the position ripple of :class:`AsymmetricRipple`. No offset: with direction-dependent
@@ -223,12 +245,6 @@ class AsymmetricLuGreRipple(AbstractEmpsModel):
 
     label: ClassVar[str] = "asymmetric_lugre_ripple"
     has_state: ClassVar[bool] = True
-    json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}
-    M: jnp.ndarray = param("kg", 50.0, 200.0)
-    Fv_pos: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_pos: jnp.ndarray = param("N", 0.0, 100.0)
-    Fv_neg: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_neg: jnp.ndarray = param("N", 0.0, 100.0)
     Fs: jnp.ndarray = param("N", 0.0, 100.0)
     vs: jnp.ndarray = param("m/s", 1e-4, 0.05)
     sigma0: jnp.ndarray = param("N/m", 1e4, 1e8)
@@ -238,8 +254,7 @@ class AsymmetricLuGreRipple(AbstractEmpsModel):
     period: jnp.ndarray = param("m", 2.3e-3, 2.65e-3)
 
     def bristle_terms(self, q, v):
-        s = _sgn(v, V_EPS)
-        wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
+        wp, wn = _directions(v)
         fc = wp * self.Fc_pos + wn * self.Fc_neg
         g = stribeck_g(v, fc, self.Fs, self.vs)
         w = 2 * jnp.pi * q * (1.0 / self.period)
@@ -252,7 +267,7 @@ class AsymmetricLuGreRipple(AbstractEmpsModel):
         return cls(95.1540, 166.71, 20.14, 240.42, 20.63, 24.0, 0.005, 2e6, 1e3, 0.0, 0.0, 2.47e-3)
 
 
-class AsymmetricPositionFriction(AbstractEmpsModel):
+class AsymmetricPositionFriction(AbstractAsymmetricPosition):
     """Direction-dependent Coulomb and viscous friction whose Coulomb level varies along the
     travel, plus a position-dependent force: with ``x = (q - Q_MID)/HALF_TRAVEL`` (-1..1 over the
     recorded 0-0.25 m),
@@ -266,23 +281,10 @@ class AsymmetricPositionFriction(AbstractEmpsModel):
     its tilt, ``k`` a force along the travel."""
 
     label: ClassVar[str] = "asymmetric_position"
-    json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}
-    Q_MID: ClassVar[float] = 0.125  # m, middle of the recorded travel
-    HALF_TRAVEL: ClassVar[float] = 0.125  # m
-    M: jnp.ndarray = param("kg", 50.0, 200.0)
-    Fv_pos: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_pos: jnp.ndarray = param("N", 0.0, 100.0)
-    Fv_neg: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_neg: jnp.ndarray = param("N", 0.0, 100.0)
-    c1: jnp.ndarray = param("N", -20.0, 20.0)
-    c2: jnp.ndarray = param("N", -20.0, 20.0)
-    k: jnp.ndarray = param("N/m", -200.0, 200.0)
 
     def friction(self, q, v, z):
-        s = _sgn(v, V_EPS)
-        wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
-        d = q - self.Q_MID
-        x = d * (1.0 / self.HALF_TRAVEL)
+        wp, wn = _directions(v)
+        d, x = self._travel(q)
         dc = self.c1 * x + self.c2 * x * x
         return (wp * (self.Fv_pos * v + self.Fc_pos + dc) - wn * (self.Fc_neg + dc - self.Fv_neg * v)
                 + self.k * d)
@@ -292,7 +294,7 @@ class AsymmetricPositionFriction(AbstractEmpsModel):
         return cls(95.1540, 166.71, 20.14, 240.42, 20.63, 0.0, 0.0, 0.0)
 
 
-class AsymmetricPositionLuGre(AbstractEmpsModel):
+class AsymmetricPositionLuGre(AbstractAsymmetricPosition):
     """:class:`AsymmetricPositionFriction` with LuGre bristles: the Coulomb level ``Fc+ + c(q)`` or
     ``Fc- + c(q)`` is the sliding level of a Stribeck curve from the shared breakaway level ``Fs``
     (``g = fc + (Fs - fc)*exp(-(v/vs)^2)``), the bristles (``sigma0``, ``sigma1``) carry it through
@@ -300,25 +302,14 @@ class AsymmetricPositionLuGre(AbstractEmpsModel):
 
     label: ClassVar[str] = "asymmetric_position_lugre"
     has_state: ClassVar[bool] = True
-    json_names: ClassVar[dict] = {"Fv_pos": "Fv+", "Fc_pos": "Fc+", "Fv_neg": "Fv-", "Fc_neg": "Fc-"}
-    M: jnp.ndarray = param("kg", 50.0, 200.0)
-    Fv_pos: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_pos: jnp.ndarray = param("N", 0.0, 100.0)
-    Fv_neg: jnp.ndarray = param("N*s/m", 0.0, 1000.0)
-    Fc_neg: jnp.ndarray = param("N", 0.0, 100.0)
-    c1: jnp.ndarray = param("N", -20.0, 20.0)
-    c2: jnp.ndarray = param("N", -20.0, 20.0)
-    k: jnp.ndarray = param("N/m", -200.0, 200.0)
     Fs: jnp.ndarray = param("N", 0.0, 100.0)
     vs: jnp.ndarray = param("m/s", 1e-4, 0.05)
     sigma0: jnp.ndarray = param("N/m", 1e4, 1e8)
     sigma1: jnp.ndarray = param("N*s/m", 0.0, 2e4)
 
     def bristle_terms(self, q, v):
-        s = _sgn(v, V_EPS)
-        wp, wn = 0.5 * (1 + s), 0.5 * (1 - s)
-        d = q - AsymmetricPositionFriction.Q_MID
-        x = d * (1.0 / AsymmetricPositionFriction.HALF_TRAVEL)
+        wp, wn = _directions(v)
+        d, x = self._travel(q)
         fc = wp * self.Fc_pos + wn * self.Fc_neg + self.c1 * x + self.c2 * x * x
         g = stribeck_g(v, fc, self.Fs, self.vs)
         other = (wp * self.Fv_pos + wn * self.Fv_neg) * v + self.k * d

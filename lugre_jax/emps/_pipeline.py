@@ -25,7 +25,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..io import EmpsRun
+from ..io import EMPS_REFERENCE, EmpsRun
 from ._fit import FIT_MAX_STEPS, FitResult, RunArrays, fit_closed_loop, fit_open_loop
 from ._idim import IdimResult, idim_ls
 from ._models import DEFAULT_MODELS, MODELS, AbstractEmpsModel, AsymmetricCoulombViscous, EmpsCoulombViscous
@@ -34,8 +34,8 @@ from ._score import N_INIT, BenchmarkScore, ClosedLoopScore, benchmark_score, cl
 
 #: Published anchors (Janot, Gautier, Brunot 2019; Forgione & Piga 2021).
 PUBLISHED = {
-    "idim_symmetric": {"M": 95.1089, "Fv": 203.5034, "Fc": 20.3935, "offset": -3.1648, "rel_err_pct": 4.08},
-    "idim_asymmetric": {"Fv+": 166.71, "Fc+": 20.14, "Fv-": 240.42, "Fc-": 20.63, "rel_err_pct": 3.11},
+    "idim_symmetric": dict(EMPS_REFERENCE["symmetric"]),
+    "idim_asymmetric": dict(EMPS_REFERENCE["asymmetric"]),
     "closed_loop_estimation": {"position_pct": 0.0138, "velocity_pct": 0.229, "force_pct": 5.85},
     "closed_loop_validation": {"force_pct": 8.94},
     "benchmark_neural_ss_validation": {"rmse_mm_about": 8.0, "r2_above": 0.99},
