@@ -27,7 +27,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..friction import bristle_step
+from ..friction import bristle_force, bristle_step
 from ._models import AbstractEmpsModel
 
 VIR_MAX = 10.0  # V, the drive's saturation
@@ -47,8 +47,8 @@ def _rhs(model: AbstractEmpsModel, x, u):
         F, dz = model.friction(q, v, z), jnp.zeros_like(z)
     else:
         s0, s1, g, other = model.bristle_terms(q, v)
-        dz = v - s0 * jnp.abs(v) * z / g  # |v|*z, never v/|v|
-        F = s0 * z + s1 * dz + other
+        fb, dz = bristle_force(z, v, g, s0, s1)
+        F = fb + other
     return jnp.stack([v, (u - F) * (1.0 / model.M), dz])
 
 

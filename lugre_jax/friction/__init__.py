@@ -5,9 +5,9 @@ Each model declares its parameters once, with unit, identification bounds and ph
 order), ``units_of``, ``bounds_of``, ``to_vector`` and ``from_vector``. A model built from concrete
 values checks them (sign; LuGre's passivity, see :class:`LuGre`).
 
-The two formulas every friction computation shares are written once here: the Stribeck curve
-(:func:`stribeck_g`, :func:`stribeck_curve`) and the exact bristle update over a sample
-(:func:`bristle_coefficients`, :func:`bristle_step`).
+The formulas every friction computation shares are written once here: the Stribeck curve
+(:func:`stribeck_g`, :func:`stribeck_curve`), LuGre's bristle force and rate (:func:`bristle_force`)
+and the exact bristle update over a sample (:func:`bristle_coefficients`, :func:`bristle_step`).
 """
 
 from .._params import (
@@ -25,6 +25,7 @@ from ._models import (
     Segmented as Segmented,
     Stribeck as Stribeck,
     bristle_coefficients as bristle_coefficients,
+    bristle_force as bristle_force,
     bristle_step as bristle_step,
     stribeck_curve as stribeck_curve,
     stribeck_g as stribeck_g,

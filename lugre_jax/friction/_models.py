@@ -99,6 +99,14 @@ def bristle_step(z, dpath, g, sigma0):
     return z_next, z_mean
 
 
+def bristle_force(z, v, g, sigma0, sigma1):
+    """LuGre's bristle part, eq. (9): ``(sigma0*z + sigma1*dz/dt, dz/dt)`` with
+    ``dz/dt = v - sigma0*|v|*z/g`` for the Stribeck level ``g``; add the viscous term for the friction.
+    ``|v|*z``, never ``v/|v|``: the latter is 0/0 at rest."""
+    dz = v - sigma0 * jnp.abs(v) * z / g
+    return sigma0 * z + sigma1 * dz, dz
+
+
 class AbstractFrictionModel(eqx.Module):
     """A friction law in the paper's units (deg/s in, N*m out).
 
@@ -256,9 +264,8 @@ class LuGre(AbstractFrictionModel):
         # g's cotangent is read by every parameter's and the state's adjoint: computed once under
         # reverse mode (see lugre_jax._fusion); the value itself is unchanged.
         g = derivative_stored_once(self.g(v), runtime_one(v))
-        # |v|*z, never v/|v|: the latter is 0/0 at rest.
-        dz = v - self.sigma0 * jnp.abs(v) * z / g
-        return self.sigma0 * z + self.sigma1 * dz + self.sigma2 * v, dz
+        f, dz = bristle_force(z, v, g, self.sigma0, self.sigma1)
+        return f + self.sigma2 * v, dz
 
     def bristle_damping(self, v):
         return jnp.zeros_like(jnp.asarray(v)) + self.sigma1
