@@ -32,20 +32,20 @@ def main(argv=None):
     force = [j["models"][n]["runs"][cl_run]["closed_loop"]["force_pct"] for n in names]
     rmse = [j["models"][n]["runs"][run]["benchmark"]["rmse_mm"] for n in names]
     ref = j["published_model_simulated"]["symmetric"]
+    pub_cl, pub_b = ref["closed_loop"][cl_run]["force_pct"], ref["benchmark"][run]["rmse_mm"]
+    panels = [  # values, colour, published anchor and its label, published model simulated, y label
+        (force, "tab:blue", 5.85, "published closed loop, estimation run (5.85 %)",
+         pub_cl, f"published model in our simulation ({pub_cl:.2f} %)", f"closed-loop force error, {cl_run} [%]"),
+        (rmse, "tab:green", 8.0, "neural state-space model, validation run (~8 mm)",
+         pub_b, f"published model ({pub_b:.2f} mm)", f"protocol (vir alone) RMSE, {run} [mm]"),
+    ]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
-    ax[0].bar(names, force, color="tab:blue")
-    ax[0].axhline(5.85, color="r", ls="--", label="published closed loop, estimation run (5.85 %)")
-    ax[0].axhline(ref["closed_loop"][cl_run]["force_pct"], color="k", ls=":",
-                  label=f"published model in our simulation ({ref['closed_loop'][cl_run]['force_pct']:.2f} %)")
-    ax[0].set_ylabel(f"closed-loop force error, {cl_run} [%]")
-    ax[0].legend(fontsize=8)
-    ax[1].bar(names, rmse, color="tab:green")
-    ax[1].axhline(8.0, color="r", ls="--", label="neural state-space model, validation run (~8 mm)")
-    ax[1].axhline(ref["benchmark"][run]["rmse_mm"], color="k", ls=":",
-                  label=f"published model ({ref['benchmark'][run]['rmse_mm']:.2f} mm)")
-    ax[1].set_ylabel(f"protocol (vir alone) RMSE, {run} [mm]")
-    ax[1].legend(fontsize=8)
-    for a in ax:
+    for a, (values, colour, anchor, anchor_label, pub, pub_label, ylabel) in zip(ax, panels):
+        a.bar(names, values, color=colour)
+        a.axhline(anchor, color="r", ls="--", label=anchor_label)
+        a.axhline(pub, color="k", ls=":", label=pub_label)
+        a.set_ylabel(ylabel)
+        a.legend(fontsize=8)
         a.tick_params(axis="x", rotation=20)
     fig.tight_layout()
     save_figure(fig, res / "summary.png")

@@ -36,8 +36,16 @@ def rel_err_pct(meas, sim) -> float:
     return float(100 * np.linalg.norm(meas - sim) / np.linalg.norm(meas))
 
 
+class _Scored:
+    """``ok``: the simulation behind a score was finite (``result`` is ``RESULTS.successful``)."""
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.result == RESULTS.successful)
+
+
 @dataclasses.dataclass(frozen=True)
-class ClosedLoopScore:
+class ClosedLoopScore(_Scored):
     """Closed-loop errors [%]; ``result`` is ``RESULTS.successful``, or ``RESULTS.nonfinite`` for a
     simulation that is not finite (its errors are then +inf). JSON: ``ok`` = successful."""
 
@@ -58,13 +66,9 @@ class ClosedLoopScore:
         return {"position_pct": self.position_pct, "velocity_pct": self.velocity_pct,
                 "force_pct": self.force_pct, "ok": self.ok, "n_samples": int(self.t.shape[0])}
 
-    @property
-    def ok(self) -> bool:
-        return bool(self.result == RESULTS.successful)
-
 
 @dataclasses.dataclass(frozen=True)
-class BenchmarkScore:
+class BenchmarkScore(_Scored):
     """The protocol's RMSE [mm], R² and fit index [%]; ``result`` as :class:`ClosedLoopScore`'s
     (a non-finite simulation scores RMSE +inf, R² and fit index -inf)."""
 
@@ -79,10 +83,6 @@ class BenchmarkScore:
     def to_json(self) -> dict:
         return {"rmse_mm": self.rmse_mm, "r2": self.r2, "fit_index": self.fit_index, "ok": self.ok,
                 "n_samples": int(self.t.shape[0])}
-
-    @property
-    def ok(self) -> bool:
-        return bool(self.result == RESULTS.successful)
 
 
 def closed_loop_score(model: AbstractEmpsModel, data: RunArrays, start: int = 0, stop: int | None = None,
