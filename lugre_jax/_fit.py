@@ -8,7 +8,10 @@ Problem: minimise ``1/2*|r(x)|^2`` over ``lower <= x <= upper`` for a residual f
   an unbounded component; :class:`LogTransform`: ``x = exp(u)`` for positive parameters whose scale
   is unknown). Runs with ``throw=False``: a failure is a :class:`lugre_jax._results.RESULTS` item
   (optimistix's codes, promoted), never a NaN.
-  :func:`least_squares` is jittable and vmappable.
+  :func:`least_squares` is jittable and vmappable. Two options for long simulations with flat
+  valleys (the EMPS fits): ``ftol`` also stops when an accepted step lowers the loss by less than
+  ``ftol`` of it (:class:`LossStop`, scipy's ``ftol`` test), and ``jac_scale`` scales ``u`` by the
+  Jacobian's column norms at the start (scipy's ``x_scale="jac"``).
 * Covariance: Gauss-Newton, ``C = s^2*(J^T J)^-1`` with ``J = dr/dx`` (forward mode: few parameters,
   many residuals) and ``s^2`` the residual variance ``|r|^2/(n - p)`` (``absolute_sigma=True``:
   ``s^2 = 1``, the residuals already carry their known noise; ``variance_floor``: ``s^2`` never below

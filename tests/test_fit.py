@@ -57,3 +57,27 @@ def test_least_squares_is_the_refine_solver_and_reports_failure_as_a_code():
                            max_steps=2)
     assert sol.result != optx.RESULTS.successful and result_name(sol.result).startswith("nonlinear_max_steps")
     assert np.all(np.isfinite(np.asarray(x)))
+
+
+def test_loss_stop_and_jacobian_scaling_reach_scipys_optimum_on_a_badly_scaled_fit():
+    """The options the EMPS fits use: the same exponential with its rate in 1/ms and its amplitude
+    in mN (scales 1e-3 and 1e3 apart). With ``jac_scale`` and the loss-decrease stop, LM ends at
+    scipy's optimum within the stop's tolerance; the loss test ends it as a result
+    ``successful``, and a looser ``ftol`` stops no later than a tighter one."""
+    def scaled(p):
+        return residual(jnp.array([p[0] * 1e-3, p[1] * 1e3, p[2]]))
+
+    popt, _ = curve_fit(model_np, T, Y, p0=[1.0, 1.0, 0.0], xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    want = popt / np.array([1e-3, 1e3, 1.0])
+    lo, hi = [0.0, 0.0, -1.0], [1e4, 1e-2, 1.0]
+    x0 = [1e3, 1e-3, 0.0]
+    tight = fit(scaled, x0, lo, hi, rtol=1e-10, atol=1e-12, ftol=1e-12, jac_scale=True)
+    loose = fit(scaled, x0, lo, hi, rtol=1e-10, atol=1e-12, ftol=1e-5, jac_scale=True)
+    assert tight.successful and loose.successful
+    np.testing.assert_allclose(tight.params, want, rtol=1e-6)
+    # a stop when the loss falls by less than ftol of it: the loss is within ~ftol of the optimum's
+    assert loose.loss <= tight.loss * (1 + 1e-3)
+    assert loose.n_steps <= tight.n_steps
+    # standard errors do not depend on the parameters' units
+    f = fit(residual, [1.0, 1.0, 0.0], [0.0, 0.0, -1.0], [10.0, 10.0, 1.0])
+    np.testing.assert_allclose(tight.standard_errors * np.array([1e-3, 1e3, 1.0]), f.standard_errors, rtol=1e-5)
