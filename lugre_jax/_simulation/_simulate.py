@@ -17,8 +17,7 @@ from ._jit import array_jit
 from ._lanes import _SYSTEM_LANES, batch_size_of, chunked_lanes, split_lanes
 from ._solution import RESULT_OK, SampleMean, Solution
 from ._lanewise import solve_lanewise
-from ._stepping import (FIXED_STEPPINGS, AbstractStepping, Adaptive, FixedStep, LaneAdaptive, Lanes, SaveAt, step_for,
-                        step_plan)
+from ._stepping import FIXED_STEPPINGS, AbstractStepping, Adaptive, LaneAdaptive, Lanes, SaveAt, step_for, step_plan
 from ._system import N_STATES, System, sample, signals, split
 
 # Below this many right-hand-side evaluations per call, splitting lanes over host devices costs more
