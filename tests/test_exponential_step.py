@@ -83,6 +83,7 @@ def _errors(stepping, references):
     return np.asarray(errs)
 
 
+@pytest.mark.slow
 def test_reference_is_tight(references):
     """The Radau reference agrees with the project's tight stiff solve (Kvaerno5, rtol 1e-11) to
     1e-8 deg: both are far tighter than the tolerances below."""
