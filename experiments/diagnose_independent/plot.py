@@ -100,11 +100,11 @@ def _dependence(row):
     return "; ".join(found) or "-"
 
 
-def new_study_tables(out, suffix=""):
-    """Summary of the calib, fresh3 and outside studies (results/<study>/runs_<study>.jsonl):
+def new_study_tables(out, suffix="", studies=("calib", "fresh3", "outside")):
+    """Summary of the studies of the rebuilt diagnosis (results/<study>/runs_<study>.jsonl):
     verdict rates, and the noise floor against the TRUE torque noise std of each recording."""
     lines = []
-    for study in ("calib", "fresh3", "outside"):
+    for study in studies:
         rows = load(out / (study + suffix) / f"runs_{study}.jsonl")
         if not rows:
             continue
@@ -154,14 +154,20 @@ def main():
                     help="only the calib, fresh3 and outside studies, to <out>/summary_rebuilt<suffix>.md")
     ap.add_argument("--suffix", default="",
                     help="with --new: read <out>/<study><suffix>/ (a re-run into another folder, e.g. _final)")
+    ap.add_argument("--studies", default="calib,fresh3,outside",
+                    help="with --new: the studies to summarise (e.g. calib2,fresh4: then written to "
+                         "<out>/summary_<studies joined by _>.md)")
     a = ap.parse_args()
     out = Path(a.out)
     if a.new:
-        lines = new_study_tables(out, a.suffix)
+        studies = tuple(x for x in a.studies.split(",") if x)
+        lines = new_study_tables(out, a.suffix, studies)
         if not lines:
-            print(f"no runs of calib, fresh3 or outside under {out} (runs_<study>.jsonl in <out>/<study>/)")
+            print(f"no runs of {', '.join(studies)} under {out} (runs_<study>.jsonl in <out>/<study>/)")
             return
-        (out / f"summary_rebuilt{a.suffix}.md").write_text("\n".join(lines) + "\n")
+        default = studies == ("calib", "fresh3", "outside")
+        name = f"summary_rebuilt{a.suffix}.md" if default else f"summary_{'_'.join(studies)}{a.suffix}.md"
+        (out / name).write_text("\n".join(lines) + "\n")
         print("\n".join(lines))
         return
     null, proof = (load(out / f"runs_{s}.jsonl") for s in ("null", "proof"))

@@ -330,25 +330,16 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
         kin_noise *= scale
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     # the shapes a correct model's residual keeps in expectation, which no test may claim: the
-    # kinematics' systematic error (above) and the smoothing's bias, signed, estimated as the
-    # change of the prediction from the window W to 2W-1 (the same estimate the conditioning chose
-    # by), its inertial part (J times the acceleration's change) and its friction part (the model's
-    # friction on the smoother velocity and path) as two columns: the smoothing distorts a and v by
-    # different powers of the window, so their sizes are not tied
+    # kinematics' systematic error (above) and the smoothing's bias, J times the change of the
+    # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by)
     nuisance = [eiv_bias]
     if cond.source != "recording" and 2 * cond.window - 1 < rec.n // 2:
-        from ._calibrate import _as_kin
         from ._condition import conditioned_kinematics
 
         rin = prep.rec_in
-        v2, a2, th2 = conditioned_kinematics(rin.time, rin.position, rin.velocity, cond.source,
-                                             2 * cond.window - 1, cond.order)
-        inertial = float(base.J) * (a_m - a2)
-        th2 = th2 if prep.path == "complementary" else np.asarray(kin.theta)
-        total = M.predict(base, kin) - M.predict(base, _as_kin(kin, (v2, a2, th2)))
-        nuisance.append(np.where(split.keep, inertial, 0.0))
-        if np.all(np.isfinite(total)):
-            nuisance.append(np.where(split.keep, np.asarray(total) - inertial, 0.0))
+        a2 = conditioned_kinematics(rin.time, rin.position, rin.velocity, cond.source, 2 * cond.window - 1,
+                                    cond.order)[1]
+        nuisance.append(np.where(split.keep, float(base.J) * (a_m - a2), 0.0))
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
