@@ -29,7 +29,7 @@ def main() -> None:
     a = ap.parse_args()
     lugre_jax.configure()
     t0 = time.perf_counter()
-    g = T.generate(T.Staircase(speeds=(0.05, 0.2, 1.0, 4.0), dwell=a.seconds / 12, seed=1), [T.AsymmetryEffect(0.04)],
+    g = T.generate(T.Staircase(speeds=(0.05, 0.2, 1.0, 4.0), dwell=a.seconds / 16, seed=1), [T.AsymmetryEffect(0.04)],
                    sensors=T.Sensors(fs=a.fs), seed=3)
     rec = g.to_recording()
     gen_s = time.perf_counter() - t0

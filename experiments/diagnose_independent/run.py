@@ -19,7 +19,7 @@ Studies (``--study``), each job appends one JSON line to ``<out>/runs.jsonl`` (r
   plants, off-grid rates, noise and excitation parameters, the paper's sine tracking, effects on
   the new plants, and the issue's kind on seeds 21 and 22 (``<out>`` ``results/heldout``);
 * ``fresh``: a second held-out set (:func:`fresh_settings`), fixed and committed before it was
-  first run (twelfth session), because every held-out row had by then been used to fix code: two
+  first run, because every held-out row had by then been used to fix code: two
   more plants, 10-s and 2.5-s dwells, 100-1,000 Hz, and one recording per candidate plus a pair
   (``<out>`` ``results/fresh``).
 
@@ -156,7 +156,7 @@ def null_settings(n: int = 32):
 
 
 def heldout_settings():
-    """A null set and issue-kind recordings that no threshold was calibrated on (eleventh session):
+    """A null set and issue-kind recordings that no threshold was calibrated on:
     two further plants and controllers, sample rates, noise levels and excitation parameters off
     the null study's grid, the paper's sine tracking, and issue #20's recording kind on two
     further seeds (another level order and noise draw)."""
@@ -197,7 +197,7 @@ def heldout_settings():
 
 
 def fresh_settings():
-    """The second held-out set (twelfth session), fixed before its first run: eight effect-free
+    """The second held-out set, fixed before its first run: eight effect-free
     recordings and nine with effects at the issue's and the slow tests' sizes (one per candidate,
     plus ripple + asymmetry), on two further plants (MEDIUM, FLAT), staircases with 10-s and 2.5-s
     dwells (periods of whole multiples and halves of the five held-out blocks), 100-1,000 Hz."""
