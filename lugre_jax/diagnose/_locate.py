@@ -345,11 +345,10 @@ def _time_lines(t, R, half_window: int = 200):
     return f, I, ratio, logp
 
 
-def time_peaks_many(t, R, half_window: int = 200, stride: int = 16) -> np.ndarray:
-    """The time periodogram's strongest line [Hz] of every row of ``R``, for starting points: as
-    :func:`time_periodogram`, with the neighbours' median taken every ``stride`` ordinates and
-    interpolated between (a running median over hundreds of draws is otherwise the cost of the
-    whole test)."""
+def _strided_ratio(t, R, half_window: int = 200, stride: int = 16):
+    """Each ordinate of every row's time periodogram over its neighbours' median, the median taken
+    every ``stride`` ordinates and interpolated between (a running median over hundreds of draws is
+    otherwise the cost of the whole test); the first ``MIN_PERIODS - 1`` ordinates are 0."""
     from numpy.lib.stride_tricks import sliding_window_view
 
     f, I = _power(t, R)
@@ -361,6 +360,13 @@ def time_peaks_many(t, R, half_window: int = 200, stride: int = 16) -> np.ndarra
     bg = np.stack([np.interp(np.arange(m), at, b) for b in bg_at])
     ratio = I / np.maximum(bg / np.log(2), 1e-300)
     ratio[:, : MIN_PERIODS - 1] = 0.0
+    return f, ratio
+
+
+def time_peaks_many(t, R, half_window: int = 200, stride: int = 16) -> np.ndarray:
+    """The time periodogram's strongest line [Hz] of every row of ``R``, for starting points: as
+    :func:`time_periodogram`, with the background of :func:`_strided_ratio`."""
+    f, ratio = _strided_ratio(t, R, half_window, stride)
     return f[np.argmax(ratio, axis=1)]
 
 
@@ -422,19 +428,9 @@ def xcorr_test(r, x, max_lag: int, L: int, min_lag: int = 0, margin_nm: float = 
 
 
 def _time_line_statistic(t, R, half_window: int = 200, stride: int = 16) -> np.ndarray:
-    """Largest ordinate-over-background ratio of the time periodogram of every row of ``R``, past
-    the first ``MIN_PERIODS`` ordinates (the background as in :func:`time_peaks_many`)."""
-    from numpy.lib.stride_tricks import sliding_window_view
-
-    f, I = _power(t, R)
-    m = I.shape[1]
-    h = min(half_window, max(1, (m - 1) // 2))
-    padded = np.pad(I, ((0, 0), (h, h)), mode="reflect")
-    at = np.unique(np.r_[np.arange(0, m, stride), m - 1])
-    bg_at = np.median(sliding_window_view(padded, 2 * h + 1, axis=1)[:, at], axis=-1)
-    bg = np.stack([np.interp(np.arange(m), at, b) for b in bg_at])
-    ratio = I / np.maximum(bg / np.log(2), 1e-300)
-    return np.max(ratio[:, MIN_PERIODS - 1:], axis=1) if m >= MIN_PERIODS else np.zeros(I.shape[0])
+    """Largest ordinate-over-background ratio of the time periodogram of every row of ``R`` past
+    the first ``MIN_PERIODS - 1`` ordinates (:func:`_strided_ratio`)."""
+    return np.max(_strided_ratio(t, R, half_window, stride)[1], axis=1)
 
 
 def gumbel_sf(x: float, draws: np.ndarray) -> float:
