@@ -161,3 +161,18 @@ def test_diagnose_cli_refuses_a_huge_csv_up_front(tmp_path):
     p = subprocess.run(["lugre-jax", "diagnose", str(big), "--out", str(out), "--segment", "5:3"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and "--segment" in p.stderr and not out.exists()
+
+
+def test_null_draws_resolve_a_third_of_alpha():
+    """Each test is held at alpha/3 and its p-values step by 1/(draws + 1): the default number of
+    draws puts the smallest p-value at alpha/5 (99 at 0.05, 499 at 0.01), and a number that could
+    never reach alpha/3 is refused by name."""
+    from lugre_jax.diagnose import DiagnoseConfig
+
+    for alpha, draws in ((0.05, 99), (0.01, 499), (0.1, 49)):
+        cfg = DiagnoseConfig(alpha=alpha)
+        assert cfg.draws == draws and 1.0 / (cfg.draws + 1) < alpha / 3
+        assert cfg.to_json()["null_draws"] == draws
+    assert DiagnoseConfig(null_draws=60).draws == 60
+    with pytest.raises(ValueError, match="null_draws: expected at least 60"):
+        DiagnoseConfig(null_draws=59)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 
 @dataclasses.dataclass(frozen=True)
@@ -16,8 +17,10 @@ class DiagnoseConfig:
       over the residual tests), naming a candidate (each step's candidates against the simulated
       null, max-T) and attributing what remains to a term of the library (the same null, max-T);
       a recording is called ``none`` only if none of the three fires (Bonferroni over the three).
-    - ``null_draws`` (99): simulated recordings per step of the selection; p-values are multiples of
-      1/(null_draws + 1), so 99 resolves 0.01 against a third of ``alpha``.
+    - ``null_draws`` (None: ``ceil(5/alpha) - 1``, 99 at the default alpha): simulated recordings
+      per test; p-values are multiples of 1/(null_draws + 1), and each test is held at a third of
+      ``alpha``, so the default puts the smallest p-value at ``alpha/5``; a given number must keep
+      1/(null_draws + 1) below ``alpha/3`` (fewer draws could never name anything).
     - ``max_terms`` (2): terms the attribution adds at most.
     - ``kinematic_draws`` (8): draws of the kinematics' errors (each a fresh conditioning of the
       recording); the torque noise is drawn afresh for every null draw, these are cycled. Eight
@@ -48,7 +51,7 @@ class DiagnoseConfig:
     """
 
     alpha: float = 0.05
-    null_draws: int = 99
+    null_draws: int | None = None
     kinematic_draws: int = 8
     seed: int = 0
     max_effects: int = 3
@@ -64,12 +67,19 @@ class DiagnoseConfig:
     def __post_init__(self):
         if not 0.0 < self.alpha < 1.0:
             raise ValueError(f"DiagnoseConfig.alpha: expected a number in (0, 1), got {self.alpha}")
-        if self.null_draws < 19:
-            raise ValueError(f"DiagnoseConfig.null_draws: expected at least 19, got {self.null_draws}")
+        if self.null_draws is not None and not (self.null_draws + 1) * self.alpha > 3.0:
+            raise ValueError(f"DiagnoseConfig.null_draws: expected at least {math.floor(3.0 / self.alpha)} at "
+                             f"alpha {self.alpha:g} (p-values step by 1/(null_draws + 1), which must be below "
+                             f"alpha/3), got {self.null_draws}")
         if self.kinematic_draws < 1:
             raise ValueError(f"DiagnoseConfig.kinematic_draws: expected at least 1, got {self.kinematic_draws}")
         if self.block_s is not None and not self.block_s > 0:
             raise ValueError(f"DiagnoseConfig.block_s: expected a positive time, got {self.block_s}")
+
+    @property
+    def draws(self) -> int:
+        """The number of null draws used: ``null_draws``, or ``ceil(5/alpha) - 1``."""
+        return self.null_draws if self.null_draws is not None else math.ceil(5.0 / self.alpha - 1e-9) - 1
 
     @property
     def alpha_locate(self) -> float:
@@ -84,4 +94,4 @@ class DiagnoseConfig:
         return self.alpha / 3.0
 
     def to_json(self) -> dict:
-        return dataclasses.asdict(self)
+        return dataclasses.asdict(self) | {"null_draws": self.draws}

@@ -366,7 +366,7 @@ def _filter_lags(prep: Prepared) -> int:
 def _locate(prep, split, floor, cfg, model, r, filter_lags, at_floor: bool):
     from ._calibrate import null_draws
 
-    draws = null_draws(model, prep.kin, floor.null, cfg.null_draws, cfg.seed + 2000)
+    draws = null_draws(model, prep.kin, floor.null, cfg.draws, cfg.seed + 2000)
     loc = L.locate(prep.rec, r, split.blocks, floor.scales, cfg.alpha_locate, filter_lags, split.keep,
                    _friction(model, prep.kin), known=floor.known, null=draws)
     return _mismatch(loc, at_floor)
@@ -415,7 +415,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         ctx = _context(prep, split, floor, current, r_cur)
         specs_cur = _all_specs(current, scales, fit_offset, freeze_baseline=frozen)
         test = test_candidates(current, specs_cur, names, ctx, kin, split.rows,
-                               floor.null, cfg.null_draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
+                               floor.null, cfg.draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
                                nuisance=floor.known["nuisance"])
         # significance is family-wise (max-T); among the significant, the candidate that explains the
         # most beyond what noise alone gives it (gain less its null mean) is refitted first: the
@@ -530,7 +530,7 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
     ctx = _context(prep, split, floor, model, r)
     window = prep.cond.window if prep.cond.source != "recording" else 5
     return attribute(model, _all_specs(model, floor.scales, fit_offset, freeze_baseline=frozen), ctx, prep.kin, split.rows,
-                     split.val, split.blocks, floor.null, cfg.null_draws, cfg.alpha_attribute, window, cfg.max_terms,
+                     split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
                      quantised_derivatives=_quantised_derivatives(prep.cond))
 
