@@ -479,10 +479,9 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     ``null``: simulated residuals of a complete model (draws x n, :mod:`._calibrate`'s measurement
     chain); the two periodograms' peaks then also refer their statistic to its law on the draws,
     the tail extended by a fitted Gumbel law (:func:`gumbel_sf`), and keep the larger of that
-    p-value and the analytic one: the analytic
-    law holds for noise of the assumed kind, the simulated one for the measurement chain the data
-    show (a quantised encoder's derivatives, coloured noise), and neither test may fire on what the
-    other explains."""
+    p-value and the analytic one: the analytic law holds for noise of the assumed kind, the
+    simulated one for the measurement chain the data show (a quantised encoder's derivatives,
+    coloured noise), and neither test may fire on what the other explains."""
     known = dict(rec.extra) if known is None else {k: v for k, v in known.items() if v is not None}
     r = np.asarray(r, float)
     keep = np.ones(r.shape, bool) if keep is None else np.asarray(keep, bool)
