@@ -18,9 +18,8 @@ Studies (``--study``), each job appends one JSON line to ``<out>/runs.jsonl`` (r
 * ``heldout``: settings no threshold was calibrated on (:func:`heldout_settings`): two further
   plants, off-grid rates, noise and excitation parameters, the paper's sine tracking, effects on
   the new plants, and the issue's kind on seeds 21 and 22 (``<out>`` ``results/heldout``);
-* ``fresh``: a second held-out set (:func:`fresh_settings`), fixed and committed before it was
-  first run, because every held-out row had by then been used to fix code: two
-  more plants, 10-s and 2.5-s dwells, 100-1,000 Hz, and one recording per candidate plus a pair
+* ``fresh``: a second held-out set (:func:`fresh_settings`), fixed and committed before its
+  first run: two more plants, 10-s and 2.5-s dwells, 100-1,000 Hz, and one recording per candidate plus a pair
   (``<out>`` ``results/fresh``).
 
     python experiments/diagnose_independent/run.py --study null --shard 0/2
@@ -46,8 +45,8 @@ and the floor's ratio to it, and the expected verdict:
     python experiments/diagnose_independent/run.py --study outside --shard 0/2 # and 1/2
     python experiments/diagnose_independent/plot.py --new
 
-Held-out sets for the code as it stands after those studies were used to change it, fixed and
-committed before their first run: ``calib2`` (40 effect-free rows: :func:`calib2_settings`) and
+Held-out sets of the current diagnosis (calib, fresh3 and outside are not held out for it), fixed
+and committed before their first run: ``calib2`` (40 effect-free rows: :func:`calib2_settings`) and
 ``fresh4`` (fresh3's effects at other rates and seeds, nulls on other plants: :func:`fresh4_settings`).
 
     python experiments/diagnose_independent/run.py --study calib2 --shard 0/2  # and 1/2
@@ -380,10 +379,9 @@ CALIB2_EXCITATIONS = {
 
 
 def calib2_settings(n: int = 40):
-    """A second effect-free set (issues #30 and #31), fixed and committed before its first run,
-    because calib's rows were used to change the code after calib's first run: the six excitation
-    kinds with other parameters x both loops x the three sensor sets, on three plants calib did not
-    use (LIGHT, HEAVY, FLAT), 120-800 Hz, torque noise 0.04-0.1 N*m, white in half the rows and
+    """A second effect-free set (issues #30 and #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    calib does not use (LIGHT, HEAVY, FLAT), 120-800 Hz, torque noise 0.04-0.1 N*m, white in half the rows and
     AR(1) of coefficient 0.45 or 0.7 in the other half, velocity noise 0.002-0.006 deg/s,
     quantisation 0.0003-0.0015 deg; seeds 7000 + i."""
     exc = list(CALIB2_EXCITATIONS)
@@ -422,10 +420,10 @@ _F4_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.0},
 
 
 def fresh4_settings():
-    """A fresh set (issue #30), fixed and committed before its first run, because fresh3 was used
-    to change the code: fresh3's 24 effect rows at other sampling rates and seeds (8100 + k), the
-    gravity's phase, the asymmetry's and drift's sign and the ripple's period and phase changed;
-    eight effect-free rows on other plants and rates (seeds 8000 + k)."""
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows
+    at other sampling rates and seeds (8100 + k), with the gravity's phase, the asymmetry's and
+    drift's sign and the ripple's period and phase changed; eight effect-free rows on other plants
+    and rates (seeds 8000 + k)."""
     out = [_recipe_job(f"fresh4_null{k:02d}_{r}", r, 8000 + k, [], "none", _F4_NULL_RECIPES)
            for k, r in enumerate(FRESH3_NULL_RECIPES)]
     out += [_recipe_job(f"fresh4_effect{k:02d}_{eid}_{r}", r, 8100 + k,
