@@ -496,10 +496,11 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     if null is not None and len(null) > 1:
         Rn = np.asarray(null, float) * keep[None, :]
         _, drop_n, *_ = _position_lines(rec.position, Rn)
-        _, drop_o, *_ = _position_lines(rec.position, r)
+        # the observed peak's drop over the residual's variance, from the periodogram above
+        # (its statistic is that drop over 2*kappa*var)
         tests[-2]["p_analytic"] = tests[-2]["p_value"]
         tests[-2]["p_value"] = max(tests[-2]["p_value"],
-                                   gumbel_sf(float(drop_o.max() / np.var(r)), drop_n.max(axis=1) / np.var(Rn, axis=1)))
+                                   gumbel_sf(2.0 * kappa * pp["statistic"], drop_n.max(axis=1) / np.var(Rn, axis=1)))
         tl = _time_line_statistic(rec.time, np.vstack([r[None, :], Rn]))
         tests[-1]["p_analytic"] = tests[-1]["p_value"]
         tests[-1]["p_value"] = max(tests[-1]["p_value"], gumbel_sf(float(tl[0]), tl[1:]))
