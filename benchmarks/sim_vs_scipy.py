@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import platform
 import time
@@ -33,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 import lugre_jax as lj
+from lugre_jax.testing import velocity_staircase
 
 ROOT = Path(__file__).resolve().parents[1]
 LEVELS, DWELL, DURATION, HZ = (0.02, 0.1, -0.05, 0.5), 5.0, 20.0, 100.0
@@ -61,31 +61,10 @@ def batch(Fs, sigma0, sigma1):
 
 def scipy_loop(Fs: float, sigma0: float, s1: float, rtol=1e-6, atol=1e-9, method="LSODA"):
     """One lane as a careful scipy user solves it: restarted at each step of the staircase."""
-    from scipy.integrate import solve_ivp
-
     seg = lj.paper_segment(1)
-    Fc, vs, s2 = (float(seg.Fc), float(seg.vs), float(seg.sigma2))
-    J = lj.PAPER_J
-
-    def make(v_ref):
-        def rhs(t, y):
-            theta, omega, z, xi = y
-            g = Fc + (Fs - Fc) * math.exp(-(omega / vs) ** 2)
-            dz = omega - sigma0 * abs(omega) * z / g
-            f = sigma0 * z + s1 * dz + s2 * omega
-            return [omega, (KP * (v_ref - omega) + KI * xi - f) / J, dz, v_ref - omega]
-        return rhs
-
-    ts = np.arange(int(round(DURATION * HZ)) + 1) / HZ
-    out, y = np.zeros(len(ts)), np.zeros(4)
-    for k, v in enumerate(LEVELS):
-        a, b = k * DWELL, (k + 1) * DWELL
-        sel = (ts >= a) & ((ts < b) | (k == len(LEVELS) - 1))
-        te = ts[sel] if ts[sel][-1] >= b else np.append(ts[sel], b)
-        r = solve_ivp(make(v), (a, b), y, method=method, rtol=rtol, atol=atol, t_eval=te)
-        out[sel] = r.y[0, :int(sel.sum())]
-        y = r.y[:, -1]
-    return out
+    _, states = velocity_staircase(lj.PAPER_J, float(seg.Fc), Fs, float(seg.vs), sigma0, s1, float(seg.sigma2),
+                                   KP, KI, LEVELS, DWELL, DURATION, HZ, method=method, rtol=rtol, atol=atol)
+    return states[:, 0]
 
 
 def timed(fn, repeat=2):

@@ -15,9 +15,9 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 import lugre_jax as lj
+from lugre_jax.testing import velocity_staircase
 
 J, KP, KI = 0.128, 8.0, 60.0
 FC, FS, VS, S2 = 0.915, 6.48, 0.0315, 2.98
@@ -46,27 +46,9 @@ def _system(sigma0, sigma1, levels, dwell):
 
 def _radau(sigma0, sigma1, levels, dwell):
     """theta [deg] at the samples: scipy Radau, rtol 1e-10, restarted at each reference step."""
-    def make(v_ref):
-        def rhs(t, y):
-            theta, omega, z, xi = y
-            g = FC + (FS - FC) * math.exp(-(omega / VS) ** 2)
-            dz = omega - sigma0 * abs(omega) * z / g
-            f = sigma0 * z + sigma1 * dz + S2 * omega
-            return [omega, (KP * (v_ref - omega) + KI * xi - f) / J, dz, v_ref - omega]
-        return rhs
-
-    duration = _duration((sigma0, sigma1, levels, dwell))
-    ts = np.arange(int(round(duration * HZ)) + 1) / HZ
-    out, y = np.zeros(len(ts)), np.zeros(4)
-    for k, v in enumerate(levels):
-        a, b = k * dwell, min((k + 1) * dwell, duration)
-        sel = (ts >= a - 1e-12) & ((ts < b - 1e-12) | (k == len(levels) - 1))
-        te = ts[sel] if ts[sel][-1] >= b - 1e-12 else np.append(ts[sel], b)
-        r = solve_ivp(make(v), (a, b), y, method="Radau", rtol=1e-10, atol=1e-13, t_eval=te)
-        assert r.success, r.message
-        out[sel] = r.y[0, :int(sel.sum())]
-        y = r.y[:, -1]
-    return out
+    _, states = velocity_staircase(J, FC, FS, VS, sigma0, sigma1, S2, KP, KI, levels, dwell,
+                                   _duration((sigma0, sigma1, levels, dwell)), HZ, rtol=1e-10, atol=1e-13)
+    return states[:, 0]
 
 
 @pytest.fixture(scope="module")

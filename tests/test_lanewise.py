@@ -4,14 +4,13 @@ steps, on stiff lanes (sigma0 1e4 N*m/deg, sigma1 up to 100 N*m*s/deg) and on th
 with steps on and off the sample grid. Also the fixed step's handling of a step landing on a
 discontinuity (a Tsit5 stage at the step's end is evaluated at the left limit)."""
 
-import math
 
 import diffrax
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 import lugre_jax as lj
+from lugre_jax.testing import velocity_staircase
 
 J, KP, KI = 0.128, 8.0, 60.0
 # (Fc, Fs, vs, sigma0, sigma1, sigma2): passive sets (sigma2 >= sigma1*(Fs - Fc)/Fc)
@@ -25,29 +24,11 @@ POS_TOL_DEG, TORQUE_TOL_NM = 2e-6, 1e-4
 
 
 def radau(p, levels, dwell, duration, hz):
+    """theta [deg] and the loop's torque [N*m] at the samples: scipy Radau, rtol 1e-10, restarted
+    at each reference step."""
     Fc, Fs, vs, s0, s1, s2 = p
-
-    def make(v_ref):
-        def rhs(t, y):
-            theta, omega, z, xi = y
-            g = Fc + (Fs - Fc) * math.exp(-(omega / vs) ** 2)
-            dz = omega - s0 * abs(omega) * z / g
-            f = s0 * z + s1 * dz + s2 * omega
-            return [omega, (KP * (v_ref - omega) + KI * xi - f) / J, dz, v_ref - omega]
-        return rhs
-
-    ts = np.arange(int(round(duration * hz)) + 1) / hz
-    ys, y = np.zeros((len(ts), 4)), np.zeros(4)
-    for k, v in enumerate(levels):
-        a, b = k * dwell, min((k + 1) * dwell, duration) if k < len(levels) - 1 else duration
-        if a >= duration:
-            break
-        sel = (ts >= a) & ((ts < b) | (b == duration))
-        te = ts[sel] if ts[sel][-1] >= b else np.append(ts[sel], b)
-        r = solve_ivp(make(v), (a, b), y, method="Radau", rtol=1e-10, atol=1e-12, t_eval=te, first_step=1e-7)
-        assert r.success, r.message
-        ys[sel] = r.y[:, :int(sel.sum())].T
-        y = r.y[:, -1]
+    ts, ys = velocity_staircase(J, Fc, Fs, vs, s0, s1, s2, KP, KI, levels, dwell, duration, hz,
+                                rtol=1e-10, atol=1e-12, first_step=1e-7)
     k = np.minimum(np.floor(ts / dwell + 1e-12).astype(int), len(levels) - 1)
     torque = KP * (np.asarray(levels)[k] - ys[:, 1]) + KI * ys[:, 3]
     return ys[:, 0], torque

@@ -35,3 +35,4 @@ from ._generator import (
     VelocityPIController as VelocityPIController,
     generate as generate,
 )
+from ._reference import velocity_staircase as velocity_staircase
