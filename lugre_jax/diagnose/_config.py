@@ -45,6 +45,9 @@ class DiagnoseConfig:
     - ``at_floor`` (1.1): validation RMSE over the estimated floor at or below which the baseline
       counts as at its floor (a 10 % excess is what the floor estimate resolves).
     - ``min_resolved`` (100): resolved training samples a baseline fit needs (about ten parameters).
+    - ``bristle_memory_share`` (0.1): after a transient the velocity-only path cannot follow, samples
+      are left out until the wrong bristle state it leaves can bring at most this share of the
+      torque noise (the bias then adds 1 % to the noise variance, a tenth of what the floor resolves).
     - ``rechoose_share`` (0.05): the conditioning window is chosen again for the fitted inertia
       when that lowers the kinematic torque error by more than this share of the torque noise
       variance (the floor would change by ~2.5 %).
@@ -63,6 +66,7 @@ class DiagnoseConfig:
     at_floor: float = 1.1
     min_resolved: int = 100
     rechoose_share: float = 0.05
+    bristle_memory_share: float = 0.1
 
     def __post_init__(self):
         if not 0.0 < self.alpha < 1.0:

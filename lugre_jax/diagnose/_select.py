@@ -224,11 +224,15 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     rechosen = None
     for second in (False, True):
+        forget = None
         if not cond.position_measured and hasattr(rough.friction, "Fs"):
             # the path integrates the velocity: across an unresolved transient it is off by an unknown
-            # step that the bristles keep for a few pre-sliding lengths
-            unresolved = forget_after(unresolved, crec.position,
-                                      3.0 * M.presliding_displacement(crec, float(rough.friction.Fs)))
+            # step that the bristles remember over the travel bristle_memory gives (pre-sliding
+            # length measured at the reversals)
+            forget = bristle_memory(M.presliding_displacement(crec, float(rough.friction.Fs)),
+                                    max(float(rough.friction.Fs), float(rough.friction.Fc)), cond.torque_noise, cfg)
+            unresolved_in = unresolved
+            unresolved = forget_after(unresolved_in, crec.position, forget)
         kin = M.kinematics_of(crec)
         split = _split(crec, cond, unresolved, cfg)
         w = split.w
@@ -237,6 +241,20 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
             paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, np.asarray(rec.position)))
         base, info, k_path = fit_baseline(crec, list(paths.values()), w, M.data_scales(crec), friction,
                                           fit_offset, params, noise=cond.torque_noise)
+        if forget is not None and isinstance(base.friction, LuGre):
+            # the measured pre-sliding length can be short of the bristles' (a fast reversal moves the
+            # torque by inertia and by the controller too): with the fitted Fs/sigma0 the memory can
+            # be longer, and then the fit is repeated without the samples it adds
+            fmax = max(float(base.friction.Fs), float(base.friction.Fc))
+            forget_fit = bristle_memory(fmax / float(base.friction.sigma0), fmax, cond.torque_noise, cfg)
+            wider = forget_after(unresolved_in, crec.position, forget_fit) if forget_fit > forget else unresolved
+            if np.any(wider & ~unresolved):
+                unresolved = wider
+                split = _split(crec, cond, unresolved, cfg)
+                w = split.w
+                base, info, k_path = fit_baseline(crec, list(paths.values()), w, M.data_scales(crec), friction,
+                                                  fit_offset, params, noise=cond.torque_noise)
+                info["bristle_memory_refit"] = float(forget_fit)
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
@@ -260,6 +278,16 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         info["window_rechosen_from"] = rechosen
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k), split
+
+
+def bristle_memory(x_pre: float, f_max: float, torque_noise: float, cfg) -> float:
+    """Travel after which a wrong bristle state no longer shows in the torque.
+
+    LuGre's z error contracts along the path at least as exp(-s/x_pre), x_pre = max(Fs, Fc)/sigma0
+    (g <= max(Fs, Fc)), from at most 2*max(Fs, Fc) of torque (z between -g/sigma0 and g/sigma0);
+    the travel that brings that bound down to ``cfg.bristle_memory_share`` of the torque noise."""
+    share = cfg.bristle_memory_share * max(float(torque_noise), 1e-12)
+    return float(x_pre) * max(np.log(2.0 * float(f_max) / share), 1.0)
 
 
 def _split(rec, cond, unresolved, cfg) -> Split:
