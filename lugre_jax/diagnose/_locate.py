@@ -446,6 +446,16 @@ def gumbel_sf(x: float, draws: np.ndarray) -> float:
     return float(-np.expm1(-np.exp(-(x - mu) / beta)))
 
 
+def scaled_chi2_sf(x: float, draws: np.ndarray) -> float:
+    """Upper-tail probability of ``x`` under ``c*chi2(nu)`` matched to the mean and variance of
+    ``draws`` (Satterthwaite): the law of a sum of squared correlations of coloured noise."""
+    d = np.asarray(draws, float)
+    m, v = float(np.mean(d)), float(np.var(d, ddof=1)) if d.size > 1 else 0.0
+    if not (m > 0 and v > 0):
+        return 1.0 if x <= float(np.max(d, initial=0.0)) else 0.0
+    return float(stats.chi2.sf(x * 2.0 * m / v, 2.0 * m * m / v))
+
+
 def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
     """Ljung-Box on the ``m`` lags from ``min_lag`` (past the conditioning filter's memory, where the
     smoothed measurement noise the residual carries is uncorrelated).
@@ -477,7 +487,8 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     ``eiv_bias_nm`` and ``conditioning_bias_nm`` (per sample), ``static_basis`` (the baseline's
     static-curve derivatives), ``eiv_inertial_nm``; default: the recording's ``extra`` columns.
     ``null``: simulated residuals of a complete model (draws x n, :mod:`._calibrate`'s measurement
-    chain); the two periodograms' peaks then also refer their statistic to its law on the draws,
+    chain); the two periodograms' peaks, the cross-correlations and the whiteness test then also
+    refer their statistic to its law on the draws (Ljung-Box: a scaled chi-square matched to them),
     the tail extended by a fitted Gumbel law (:func:`gumbel_sf`), and keep the larger of that
     p-value and the analytic one: the analytic law holds for noise of the assumed kind, the
     simulated one for the measurement chain the data show (a quantised encoder's derivatives,
@@ -493,6 +504,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     tp = time_periodogram(rec.time, r)
     tests.append({"test": "time_periodic", "region": {"frequency_hz": tp["frequency"]},
                   "statistic": tp["statistic"], "p_value": tp["p_value"]})
+    Rn = None
     if null is not None and len(null) > 1:
         Rn = np.asarray(null, float) * keep[None, :]
         _, drop_n, *_ = _position_lines(rec.position, Rn)
@@ -517,19 +529,33 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     # |a|*sign(v): the shape of a friction that grows with the transmitted (inertial) torque; it is
     # even in the acceleration, so the cross-correlations with a and jerk cancel it between
     # speeding up and slowing down (docs/diagnosis.md, load-dependent friction)
+    # the shapes a correct model's residual keeps in expectation (known["nuisance"]: the kinematics'
+    # systematic error through the model, the smoothing's bias) are projected out of the residual and
+    # of the null draws before the cross-correlations, as the candidates' test does
+    nuis = known.get("nuisance")
+    Q = None
+    if nuis is not None and keep.any():
+        N = np.asarray(nuis, float).reshape(r.size, -1)[keep]
+        U, sv, _ = np.linalg.svd(N, full_matrices=False)
+        Q = U[:, sv > 1e-8 * max(float(sv[0]), 1e-300)] if sv.size else None
+
+    def deflate(y):
+        if Q is None or Q.shape[1] == 0:
+            return y
+        y = np.array(y, float)
+        y[..., keep] -= (y[..., keep] @ Q) @ Q.T
+        return y
+
+    r_x, r_acc = deflate(r), deflate(r_acc)
+    Rn_x = deflate(Rn) if null is not None and len(null) > 1 else None
     for name, x in (("velocity", rec.velocity), ("acceleration", acc), ("jerk", jerk),
                     ("sign_velocity", np.sign(rec.velocity)),
                     ("transmitted_torque", np.abs(acc) * np.sign(rec.velocity))):
-        ml = filter_lags if name in ("acceleration", "jerk") else 0
-        if name == "transmitted_torque":
-            # even in the acceleration, it does not share the conditioning filter's noise with the
-            # residual at short lags while the acceleration's magnitude is the signal's (the
-            # filtered noise enters odd); where noise is a tenth or more of the acceleration's
-            # variance (attenuation below 0.9) its magnitude is partly the noise's, and the short
-            # lags are skipped as for a and jerk; with derivatives of a quantised position
-            # (filter_lags past max_lag) it is not run
-            clean = float(scales.get("acceleration_attenuation", 1.0)) >= 0.9
-            ml = 0 if (filter_lags <= max_lag and clean) else filter_lags
+        # inputs made from the smoothed acceleration share the smoothing's error with the residual
+        # within the filter's memory: its noise, and its bias at every change of the acceleration,
+        # whose law needs the true acceleration (no null from the data exists), so those lags are
+        # skipped (with derivatives of a quantised position filter_lags exceeds max_lag: not run)
+        ml = filter_lags if name in ("acceleration", "jerk", "transmitted_torque") else 0
         x = np.asarray(x, float)
         x = np.where(keep, x, np.mean(x[keep]) if keep.any() else 0.0)
         # the velocity and its sign carry the baseline's static curve (viscous and Coulomb parts):
@@ -537,11 +563,20 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
         # (measured: a position-only sine sweep at its floor, ratio 1.003, whose residual correlated
         # -0.035 with sign(v) 0.32 s later, 3 % of the noise, z 5.6: located without the margin)
         mg = RESOLUTION * float(scales.get("noise", 0.0)) if name in ("velocity", "sign_velocity") else 0.0
-        xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r, x, max_lag, L, ml, mg)
+        xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r_x, x, max_lag, L, ml, mg)
         if xc is not None:
             xcs[name] = xc
-            tests.append({"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
-                          "statistic": xc["statistic"], "p_value": xc["p_value"]})
+            test = {"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
+                    "statistic": xc["statistic"], "p_value": xc["p_value"]}
+            if Rn_x is not None:
+                # the largest standardised correlation over the lags on every null draw: its law for
+                # the measurement chain at hand (the Bartlett variance assumes noise independent of
+                # the input, which smoothed kinematics are not within the filter's memory)
+                zn = np.array([(xcorr_test(y, x, max_lag, L, ml, mg) or {"statistic": 0.0})["statistic"]
+                               for y in Rn_x])
+                test["p_analytic"] = test["p_value"]
+                test["p_value"] = max(test["p_value"], gumbel_sf(float(xc["statistic"]), zn))
+            tests.append(test)
     # friction drifting in time: the residual grows along F*(t - t_mid), F the model's friction
     # torque (sign(v) without one). A square wave with the excitation's direction changes, its mean
     # over any time window is ~0, so neither the time windows nor the velocity bands (which average
@@ -563,10 +598,18 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
             region["relative_change_over_recording"] = tr["slope"] * dur
         tests.append({"test": "friction_trend", "region": region, "statistic": tr["statistic"],
                       "p_value": tr["p_value"]})
-    lb = ljung_box(r, min_lag=max(1, filter_lags), margin=RESOLUTION ** 2 if scales.get("noise") else 0.0)
-    tests.append({"test": "whiteness_ljung_box", "region": {"whole_recording": True, "lags": lb["df"],
-                                                            "from_lag": max(1, filter_lags)},
-                  "statistic": lb["statistic"], "p_value": lb["p_value"]})
+    lb_margin = RESOLUTION ** 2 if scales.get("noise") else 0.0
+    lb = ljung_box(r, min_lag=max(1, filter_lags), margin=lb_margin)
+    test = {"test": "whiteness_ljung_box", "region": {"whole_recording": True, "lags": lb["df"],
+                                                      "from_lag": max(1, filter_lags)},
+            "statistic": lb["statistic"], "p_value": lb["p_value"]}
+    if Rn is not None:
+        # Q on every null draw (the kinematics' errors through the model are coloured), its law a
+        # scaled chi-square matched to the draws' mean and variance (a sum of squares, not a maximum)
+        qn = np.array([ljung_box(y, min_lag=max(1, filter_lags), margin=lb_margin)["statistic"] for y in Rn])
+        test["p_analytic"] = test["p_value"]
+        test["p_value"] = max(test["p_value"], scaled_chi2_sf(lb["statistic"], qn))
+    tests.append(test)
     p_adj = holm(np.array([x["p_value"] for x in tests]))
     for x, q in zip(tests, p_adj):
         x["p_holm"] = float(q)
