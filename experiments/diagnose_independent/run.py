@@ -92,18 +92,27 @@ FLAT = T.Plant(J=0.08, Fc=1.5, Fs=1.7, vs=0.3, sigma2=0.3, sigma0=80.0, sigma1=2
 NIMBLE = T.Plant(J=0.06, Fc=0.9, Fs=1.4, vs=0.1, sigma2=0.6, sigma0=200.0, sigma1=1.0)
 SLUGGISH = T.Plant(J=0.25, Fc=1.8, Fs=2.4, vs=0.04, sigma2=1.8, sigma0=50.0, sigma1=2.5)
 MIDDLE = T.Plant(J=0.15, Fc=1.1, Fs=1.9, vs=0.12, sigma2=0.9, sigma0=120.0, sigma1=1.2)
+# plants of the calib3 study only (no earlier study used them; all passive): a stiff joint, a soft
+# one with a broad Stribeck dip, a tiny one with low friction
+STIFF = T.Plant(J=0.1, Fc=0.7, Fs=1.0, vs=0.08, sigma2=1.0, sigma0=250.0, sigma1=1.5)
+SOFT = T.Plant(J=0.3, Fc=1.2, Fs=2.0, vs=0.2, sigma2=0.4, sigma0=30.0, sigma1=0.5)
+TINY = T.Plant(J=0.02, Fc=0.3, Fs=0.45, vs=0.05, sigma2=0.5, sigma0=100.0, sigma1=0.5)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
           "nimble": (NIMBLE, T.VelocityPIController(kp=3.0, ki=20.0)), "sluggish": (SLUGGISH, T.VelocityPIController(kp=15.0, ki=100.0)),
-          "middle": (MIDDLE, T.VelocityPIController(kp=8.0, ki=50.0))}
+          "middle": (MIDDLE, T.VelocityPIController(kp=8.0, ki=50.0)),
+          "stiff": (STIFF, T.VelocityPIController(kp=6.0, ki=36.0)), "soft": (SOFT, T.VelocityPIController(kp=18.0, ki=110.0)),
+          "tiny": (TINY, T.VelocityPIController(kp=1.3, ki=8.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
         "medium": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003), "nimble": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
         "sluggish": T.PositionPIDController.tuned(0.25, 2.5, tf=0.005), "middle": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003),
         "light": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002), "heavy": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
-        "flat": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003)}
+        "flat": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003),
+        "stiff": T.PositionPIDController.tuned(0.1, 3.0, tf=0.003), "soft": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
+        "tiny": T.PositionPIDController.tuned(0.02, 3.5, tf=0.002)}
 
 
 def controller_of(job):
@@ -432,6 +441,67 @@ def fresh4_settings():
     return out
 
 
+# calib3's excitations: the six kinds with parameters neither calib nor calib2 used
+CALIB3_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.015, 0.05, 0.2, 0.8, 2.5, 7.0), "dwell": 4.5 if i % 2 else 5.0,
+                            "transition": 0.5, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.2 + 0.9 * (i % 3), "f0": 0.05, "f1": 2.0, "duration": 50.0,
+                             "bias": 0.3 + 0.5 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 1.0 * (i % 2), "f0": 0.04, "f1": 1.0 + 0.5 * (i % 3),
+                            "n": 8 + 4 * (i % 2), "duration": 50.0},
+    "position_sine": lambda i: {"amplitude": 2.0 + 4.0 * (i % 3), "frequency": 0.1 + 0.1 * (i % 2),
+                                "duration": 40.0},
+    "point_to_point": lambda i: {"amplitudes": (3.0, -1.0, 4.5, -2.5, 0.5) if i % 2 else (-3.0, 2.0, -0.5, 4.0, -4.0, 1.0),
+                                 "move_time": 1.0 + 0.8 * (i % 2), "dwell": 2.0, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.02, 0.1, 0.5, 2.0, 5.0), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib3_settings(n: int = 40):
+    """A third effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier study used (STIFF, SOFT, TINY), 150-700 Hz, torque noise 0.03-0.09 N*m, white in half
+    the rows and AR(1) of coefficient 0.3 or 0.6 in the other half, velocity noise 0.003-0.005
+    deg/s, quantisation 0.0004-0.001 deg; seeds 9000 + i."""
+    exc = list(CALIB3_EXCITATIONS)
+    sensors = [(True, True), (True, False), (False, True)]
+    plants = ["stiff", "soft", "tiny"]
+    fs = [150.0, 250.0, 350.0, 500.0, 700.0]
+    tn = [0.03, 0.06, 0.09]
+    ar = [0.3, 0.0, 0.6, 0.0]
+    out = []
+    for i in range(n):
+        e, c, (pcol, vcol) = exc[i % 6], ("pi", "pid")[(i // 6) % 2], sensors[(i // 12) % 3]
+        ctrl = "pid_nff" if c == "pid" and i % 4 == 3 else c
+        out.append({"key": f"calib3_{i:02d}_{e}_{ctrl}", "plant": plants[(i + i // 6) % 3], "controller": ctrl,
+                    "excitation": e, "excitation_kw": CALIB3_EXCITATIONS[e](i), "fs": fs[(3 * i + i // 6) % 5],
+                    "torque_noise": tn[(i + 2 * (i // 5)) % 3], "torque_noise_ar": ar[(i + i // 6) % 4],
+                    "velocity_noise": [0.003, 0.005][(i // 2) % 2] if vcol else 0.0,
+                    "quantisation": [0.0004, 0.001][(i // 3) % 2] if pcol else 0.0,
+                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": 9000 + i,
+                    "expected": "none"})
+    return out
+
+
+# fresh5: fresh3's effect recipes at yet other sampling rates and seeds, the effects' phases, signs
+# and ripple periods changed again where that leaves their size alone
+_F5_FS = {"a": 280.0, "b": 400.0, "c": 220.0, "d": 700.0, "e": 500.0, "f": 350.0, "g": 260.0, "h": 240.0, "i": 450.0}
+_F5_RECIPES = {k: r[:4] + (_F5_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F5_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.4},
+              "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+              "position_ripple": lambda kw: kw | {"period": 0.8 * kw["period"], "phase": kw["phase"] + 1.1},
+              "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
+
+
+def fresh5_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (9100 + k), with the gravity's phase, the asymmetry's and drift's
+    sign and the ripple's period and phase changed."""
+    return [_recipe_job(f"fresh5_effect{k:02d}_{eid}_{r}", r, 9100 + k,
+                        [(eid, _F5_VARIED.get(eid, dict)(dict(kw)))], eid, _F5_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 # the outside study's recordings (the same plants, other excitations, rates and loops)
 _OUT_RECIPES = {
     "p": ("nimble", "pid", "point_to_point", {"amplitudes": (4.0, -2.0, 5.0, 0.0, -5.0, 1.0), "move_time": 1.5,
@@ -558,6 +628,10 @@ def jobs(study: str, seeds, strengths):
         return calib2_settings()
     if study == "fresh4":
         return fresh4_settings()
+    if study == "calib3":
+        return calib3_settings()
+    if study == "fresh5":
+        return fresh5_settings()
     if study == "null":
         return null_settings()
     if study == "heldout":
@@ -711,7 +785,7 @@ def run_one(job, top_k, cache=None):
     return row
 
 
-NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4")
+NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5")
 
 
 def main():
