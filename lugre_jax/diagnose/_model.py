@@ -42,6 +42,7 @@ import numpy as np
 import optimistix as optx
 
 from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck
+from .._results import RESULTS, promote, result_name
 from .._types import Array, Float
 
 
@@ -465,9 +466,8 @@ def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_s
     ok = bool(np.all(np.isfinite(np.asarray(u))))
     if not ok:
         fitted = model
-    return fitted, {"result": str(result) if not ok else ("ok" if result == optx.RESULTS.successful
-                                                          else "max_steps_or_other"),
-                    "steps": int(steps)}
+    name = result_name(promote(result)) if ok else result_name(RESULTS.nonfinite)
+    return fitted, {"result": name, "steps": int(steps)}
 
 
 @eqx.filter_jit
