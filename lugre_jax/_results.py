@@ -10,7 +10,6 @@ and are named by :func:`result_name`. A non-finite simulation is ``RESULTS.nonfi
 from __future__ import annotations
 
 import diffrax
-import jax.numpy as jnp
 import numpy as np
 
 
@@ -33,7 +32,7 @@ def result_name(code) -> str:
     """Name of a result item, or of its integer index in :class:`RESULTS` (e.g. ``"successful"``)."""
     if hasattr(code, "_enumeration"):
         code = code._value
-    idx = int(jnp.asarray(code))
+    idx = int(np.asarray(code))
     for name, item in RESULTS._name_to_item.items():
         if int(item._value) == idx:
             return name

@@ -1,6 +1,7 @@
 """Friction and plant models: closed forms, the paper's parameter sets, bounds and units."""
 
 import dataclasses
+import warnings
 
 import equinox as eqx
 import jax
@@ -152,7 +153,12 @@ def test_non_passive_lugre_is_refused_when_passivity_is_required():
     strict = dict(require_passive=True)
     with pytest.raises(ValueError, match=r"^LuGre\(sigma2=0\.01\): not passive; sigma2 must be >= .* = 16\.6667"):
         lj.LuGre(**bad, **strict)
-    assert float(lj.LuGre(**bad).sigma2) == 0.01  # the default builds it (opt-in check)
+    with pytest.warns(lj.friction.NonPassiveWarning, match=r"^LuGre\(sigma2=0\.01\): not passive; sigma2 must be >= .* = 16\.6667") as rec:
+        assert float(lj.LuGre(**bad).sigma2) == 0.01  # the default builds it, with a warning
+    assert rec[0].filename == __file__  # pointing at the caller's line
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lj.LuGre(**bad, require_passive=False)  # silent on request
     lj.LuGre(**dict(bad, sigma2=50.0 * 0.3 / 0.9), **strict)  # on the boundary: passive
     lj.LuGre(**dict(bad, Fs=0.9), **strict)  # no Stribeck drop: any sigma2 >= 0 is passive
     with pytest.raises(ValueError, match="not passive"):  # Fs < Fc: the rise counts the same way
@@ -175,7 +181,7 @@ def test_passivity_condition_is_the_dissipation_inequality():
     v = jnp.asarray(1e3)  # g(v) = Fc to machine precision
     z = 1.6 / 100.0  # z = Fs/sigma0 (w = sigma0*z/g = Fs/Fc)
     for s2, ok in ((need * 0.99, False), (need, True)):
-        m = lj.LuGre(**base, sigma2=s2)
+        m = lj.LuGre(**base, sigma2=s2, require_passive=False)
         F, dz = m.torque_and_derivative(z, v)
         supply = float(F * v - m.sigma0 * z * dz)
         assert (supply >= -1e-9 * abs(float(F * v))) == ok, (s2, supply)

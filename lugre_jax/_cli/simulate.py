@@ -33,7 +33,7 @@ def check(args) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from .. import simulate
+    from .. import RESULT_NONFINITE, RESULT_OK, result_name, simulate
     from ..io import write_csv
     from ..scenario import load_scenario
 
@@ -53,10 +53,11 @@ def run(args) -> int:
         sol = simulate(system, opts["duration_s"], opts["sample_hz"], stepping=stepping)
         sol.theta.block_until_ready()
         say(f"solver ran {time.perf_counter() - t0:.1f} s (compilation included; a second run reuses it)")
-        if int(sol.result) != 0:
+        if int(sol.result) != RESULT_OK:
             raise ValueError(
-                f"{args.scenario}: the solver failed (result code {int(sol.result)}: "
-                + ("state blew up; try a smaller solver.dt or solver.method \"adaptive\")" if int(sol.result) == 1
+                f"{args.scenario}: the solver failed (result {result_name(int(sol.result))}: "
+                + ("state blew up; try a smaller solver.dt or solver.method \"adaptive\")"
+                   if int(sol.result) == RESULT_NONFINITE
                    else "adaptive solver gave up; raise solver.max_steps, loosen rtol/atol, or use "
                         "solver.name \"kvaerno5\" for a stiff system)")
             )

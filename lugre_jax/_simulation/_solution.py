@@ -8,13 +8,15 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from .._results import RESULTS, result_name
 from .._types import Array, Float, Int, PyTree
 
-RESULT_OK = 0
-RESULT_NONFINITE = 1
-RESULT_SOLVER_FAILED = 2
-RESULT_NAMES = {RESULT_OK: "ok", RESULT_NONFINITE: "state not finite",
-                RESULT_SOLVER_FAILED: "adaptive solver gave up (max_steps or step size)"}
+# a lane's result code is the index of its item in the package's one enumeration (lugre_jax.RESULTS):
+# an int array, so that it stacks, stores and compares as one
+RESULT_OK = int(RESULTS.successful._value)
+RESULT_NONFINITE = int(RESULTS.nonfinite._value)  # the state blew up
+RESULT_SOLVER_FAILED = int(RESULTS.max_steps_reached._value)  # the adaptive solver gave up
+RESULT_NAMES = {c: result_name(c) for c in (RESULT_OK, RESULT_NONFINITE, RESULT_SOLVER_FAILED)}
 
 
 def _component(view, k):
@@ -46,7 +48,8 @@ class Solution(_AbstractStateView):
     """Sampled trajectories. Arrays have shape ``(*batch, n_samples)`` (``ys``: ``(..., n, 8)``).
 
     ``torque_nm`` is the actuator torque at the joint [N*m], ``friction_nm`` the plant's friction
-    torque [N*m], ``result`` the per-lane result code (:data:`RESULT_OK` = 0).
+    torque [N*m], ``result`` the per-lane result code (:data:`RESULT_OK` = 0; the index of a
+    :class:`~lugre_jax.RESULTS` item, named by :func:`~lugre_jax.result_name`).
     """
 
     ts: Float[Array, " n"]
@@ -124,7 +127,7 @@ def _result_names(result):
     import numpy as np
 
     r = np.asarray(result)
-    return RESULT_NAMES.get(int(r), str(int(r))) if r.ndim == 0 else [RESULT_NAMES.get(int(x), str(int(x))) for x in r.ravel()]
+    return result_name(int(r)) if r.ndim == 0 else [result_name(int(x)) for x in r.ravel()]
 
 
 def trajectory_loss(sol: Solution, reduce) -> Array:

@@ -42,6 +42,7 @@ import numpy as np
 import optimistix as optx
 
 from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck
+from .._results import RESULTS, promote, result_name
 from .._types import Array, Float
 
 
@@ -465,9 +466,8 @@ def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_s
     ok = bool(np.all(np.isfinite(np.asarray(u))))
     if not ok:
         fitted = model
-    return fitted, {"result": str(result) if not ok else ("ok" if result == optx.RESULTS.successful
-                                                          else "max_steps_or_other"),
-                    "steps": int(steps)}
+    name = result_name(promote(result)) if ok else result_name(RESULTS.nonfinite)
+    return fitted, {"result": name, "steps": int(steps)}
 
 
 @eqx.filter_jit
@@ -615,7 +615,7 @@ def initial_baseline(rec, friction: str = "lugre", fit_offset: bool = False) -> 
     if friction == "stribeck":
         return JointModel(jnp.asarray(J), Stribeck(Fc=Fc, Fs=Fs, vs=vs, sigma2=s2), jnp.asarray(off))
     return JointModel(jnp.asarray(J), LuGre(Fc=Fc, Fs=Fs, vs=vs, sigma2=s2, sigma0=sigma0,
-                                            sigma1=0.1 * s2), jnp.asarray(off))
+                                            sigma1=0.1 * s2, require_passive=False), jnp.asarray(off))
 
 
 def _stribeck_curve(v, Fc, Fs, vs, s2, off=0.0):
@@ -730,7 +730,8 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
         for zeta in (0.5, 0.1):
             s1 = 2 * zeta * np.sqrt(s0 * J)
             out.append(JointModel(jnp.asarray(J), LuGre(Fc=Fc, Fs=max(Fs, Fc * 1.0001), vs=vs, sigma2=s2,
-                                                        sigma0=s0, sigma1=s1), jnp.asarray(off)))
+                                                        sigma0=s0, sigma1=s1, require_passive=False),
+                                  jnp.asarray(off)))
     return out
 
 

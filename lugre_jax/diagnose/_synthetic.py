@@ -30,7 +30,7 @@ TRUE_J = 0.128  # N*m*s^2/deg (paper, eq. 18)
 def true_friction() -> LuGre:
     """Ground-truth LuGre of the synthetic joint: Table 1 orders of magnitude, vs moved to 0.2 deg/s
     so that the plateaus sample the Stribeck region; sigma0, sigma1 of Table 2's order."""
-    return LuGre(Fc=1.0, Fs=1.6, vs=0.2, sigma2=0.5, sigma0=100.0, sigma1=2.0)
+    return LuGre(Fc=1.0, Fs=1.6, vs=0.2, sigma2=0.5, sigma0=100.0, sigma1=2.0, require_passive=False)
 
 
 ACCEL = 1.5  # deg/s^2, acceleration of every speed change

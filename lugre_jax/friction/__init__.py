@@ -22,6 +22,7 @@ from ._models import (
     AbstractFrictionModel as AbstractFrictionModel,
     CoulombViscous as CoulombViscous,
     LuGre as LuGre,
+    NonPassiveWarning as NonPassiveWarning,
     Segmented as Segmented,
     Stribeck as Stribeck,
     bristle_coefficients as bristle_coefficients,

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+import warnings
 
 import equinox as eqx
 import jax
@@ -194,6 +195,10 @@ class Stribeck(AbstractFrictionModel):
         return jnp.zeros_like(jnp.asarray(v) * self.Fc)
 
 
+class NonPassiveWarning(UserWarning):
+    """A concrete :class:`LuGre` set that does not meet the passivity condition (built anyway)."""
+
+
 class LuGre(AbstractFrictionModel):
     """LuGre dynamic friction, eq. (9).
 
@@ -213,10 +218,12 @@ class LuGre(AbstractFrictionModel):
     the bristles fully deflected in the direction of motion (``w = max/min``) it is the condition
     itself; at lower speed the quadratic's minimum in ``w`` needs less.
 
-    The check is opt-in because many sets in use violate it: the paper's Table 2 segment 1
-    (``sigma1*(Fs - Fc)/Fc = 14.0`` against ``sigma2 = 2.98``), eq. (18)'s damping on a pronounced
-    Stribeck curve, the synthetic plants of ``diagnose`` and ``testing``; the equations are still well
-    defined. The sign checks of :class:`AbstractFrictionModel` always apply.
+    By default (``require_passive=None``) a concrete non-passive set is built with a
+    ``NonPassiveWarning`` that names ``sigma2`` and the least value it needs; ``False`` builds it
+    silently, for the sets in use that violate the condition on purpose: the paper's Table 2
+    segment 1 (``sigma1*(Fs - Fc)/Fc = 14.0`` against ``sigma2 = 2.98``), eq. (18)'s damping on a
+    pronounced Stribeck curve, a fit's intermediate values; the equations are still well defined.
+    The sign checks of :class:`AbstractFrictionModel` always apply.
     """
 
     Fc: Float[Array, "*b"] = param("N*m", 0.0, 10.0, domain=NONNEGATIVE)
@@ -226,10 +233,10 @@ class LuGre(AbstractFrictionModel):
     sigma0: Float[Array, "*b"] = param("N*m/deg", 0.0, 1.0e4, domain=NONNEGATIVE)
     sigma1: Float[Array, "*b"] = param("N*m*s/deg", 0.0, 100.0, domain=NONNEGATIVE)
     delta: float | Float[Array, "*b"] = 2.0
-    require_passive: dataclasses.InitVar[bool] = dataclasses.field(default=False, kw_only=True)
+    require_passive: dataclasses.InitVar[bool | None] = dataclasses.field(default=None, kw_only=True)
 
-    def __post_init__(self, require_passive: bool):
-        if not require_passive:
+    def __post_init__(self, require_passive: bool | None):
+        if require_passive is False:
             return
         check_domains(self)  # a wrong sign is reported as such, before the passivity it implies
         vals = [concrete(getattr(self, n)) for n in ("Fc", "Fs", "sigma1", "sigma2")]
@@ -242,11 +249,12 @@ class LuGre(AbstractFrictionModel):
         if bad.any():
             i = tuple(int(k) for k in np.argwhere(bad)[0])
             least = need[i] / np.minimum(Fc, Fs)[i] if np.minimum(Fc, Fs)[i] > 0 else np.inf
-            raise ValueError(
-                f"LuGre({describe_value('sigma2', s2, bad)}): not passive; sigma2 must be >= "
-                f"sigma1*|Fs - Fc|/min(Fc, Fs) = {least:.6g} [N*m*s/deg] (sigma1={s1[i]:g}, Fc={Fc[i]:g}, "
-                f"Fs={Fs[i]:g})"
-            )
+            msg = (f"LuGre({describe_value('sigma2', s2, bad)}): not passive; sigma2 must be >= "
+                   f"sigma1*|Fs - Fc|/min(Fc, Fs) = {least:.6g} [N*m*s/deg] (sigma1={s1[i]:g}, Fc={Fc[i]:g}, "
+                   f"Fs={Fs[i]:g})")
+            if require_passive:
+                raise ValueError(msg)
+            warnings.warn(msg + "; require_passive=False builds it silently", NonPassiveWarning, stacklevel=5)
 
     def g(self, v):
         """Stribeck function g(v) [N*m] (positive)."""
