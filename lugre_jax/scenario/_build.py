@@ -94,7 +94,9 @@ def _lugre(d: dict, where: str) -> LuGre:
     if kw["Fs"] < kw["Fc"]:
         raise ScenarioError(f"{where}.Fs: expected a static friction >= Fc = {kw['Fc']!r} N*m (the "
                             f"Stribeck curve falls from Fs to Fc), got {kw['Fs']!r}")
-    return LuGre(**kw)
+    # a scenario (or a sweep over it) may hold a non-passive set on purpose (the paper's segment 1):
+    # built silently, so that a CLI error stays one line
+    return LuGre(**kw, require_passive=False)
 
 
 def parse_friction(spec: Any, where: str = "friction"):
