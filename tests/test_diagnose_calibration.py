@@ -77,10 +77,16 @@ def test_whiteness_and_cross_correlation_referred_to_null_draws_hold_their_level
     x = lfilter([1.0], [1.0, -0.9], rng.standard_normal(n))  # a smooth input, fixed
 
     def p_of(R):
-        q = np.array([L.ljung_box(y, min_lag=1)["statistic"] for y in R])
-        z = np.array([L.xcorr_test(y, x, 50, 100)["statistic"] for y in R])
+        q = L.ljung_box_many(R, min_lag=1)
+        z = L.xcorr_statistics(R, [(x, 0, 0.0)], 50, 100)[:, 0]
         return L.scaled_chi2_sf(q[0], q[1:]), L.gumbel_sf(z[0], z[1:]), L.ljung_box(R[0], min_lag=1)["p_value"]
 
+    R = lfilter([1.0], [1.0, -phi], rng.standard_normal((20, n)), axis=1)  # the batched forms are the single ones
+    np.testing.assert_allclose(L.ljung_box_many(R, min_lag=3, margin=0.01),
+                               [L.ljung_box(y, min_lag=3, margin=0.01)["statistic"] for y in R], rtol=1e-10)
+    np.testing.assert_allclose(L.xcorr_statistics(R, [(x, 5, 0.1), (np.sign(x), 0, 0.0)], 50, 100),
+                               [[L.xcorr_test(y, x, 50, 100, 5, 0.1)["statistic"],
+                                 L.xcorr_test(y, np.sign(x), 50, 100)["statistic"]] for y in R], rtol=1e-10)
     ps = np.array([p_of(lfilter([1.0], [1.0, -phi], rng.standard_normal((100, n)), axis=1)) for _ in range(reps)])
     for k in (0, 1):
         assert 0.023 <= np.mean(ps[:, k] < 0.05) <= 0.077, (k, np.mean(ps[:, k] < 0.05))

@@ -7,8 +7,10 @@ Groups are added greedily, as the candidates are: each step tests every group's 
 same simulated null as the candidates (:mod:`._calibrate`; the time line's frequency search
 repeated on every draw), family-wise by max-T at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
-held-out RMSE significantly (the same one-sided held-out test as the candidates'). The terms are linear in their coefficients, so the first-order gain is the exact
-least-squares gain.
+held-out RMSE significantly (the same one-sided held-out test as the candidates') by a share
+``sqrt(before^2 - after^2)`` of at least RESOLUTION (0.15) of the per-sample noise floor, the
+resolution at which locate claims structure. The terms are linear in their coefficients, so the
+first-order gain is the exact least-squares gain.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import numpy as np
 
 from . import _calibrate as C
 from . import _model as M
+from ._locate import RESOLUTION
 
 
 @dataclasses.dataclass(frozen=True)
@@ -184,9 +187,14 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         pred = Xall @ beta
         new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
         p_held = C.held_out_p(r_fit, r - pred, blocks, val)
-        if not (new < after and p_held < alpha):
+        # the term's held-out share must reach the resolution locate claims structure at (RESOLUTION
+        # of the per-sample noise floor): below it a term fits what no test of the tool resolves
+        share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))
+        least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
+        if not (new < after and p_held < alpha and share >= least):
             tests[-1].append({"rejected": g.name,
-                              "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g}"})
+                              "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g}, "
+                                         f"share {share:.3g} (resolution {least:.3g})"})
             break
         r_fit = r - pred
         chosen.append((g, X))

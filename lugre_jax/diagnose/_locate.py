@@ -427,35 +427,41 @@ def xcorr_test(r, x, max_lag: int, L: int, min_lag: int = 0, margin_nm: float = 
             "p_value": p, "rho": rho, "lags": lags, "se": se}
 
 
-def xcorr_statistics(R, x, max_lag: int, L: int, min_lag: int = 0, margin_nm: float = 0.0) -> np.ndarray:
-    """:func:`xcorr_test`'s statistic for every row of ``R`` against one input ``x`` (the input's
-    transform and autocorrelation computed once): the null draws' law of the largest correlation."""
+def xcorr_statistics(R, inputs, max_lag: int, L: int) -> np.ndarray:
+    """:func:`xcorr_test`'s statistic for every row of ``R`` (draws x n) against each input of
+    ``inputs`` (``(x, min_lag, margin_nm)`` triples): draws x inputs. Each row's transform and
+    autocorrelation are computed once for all inputs, each input's once for all rows."""
+    from scipy import fft
+
     R = np.atleast_2d(np.asarray(R, float))
-    n = R.shape[1]
-    xc = x - x.mean()
-    sx = xc.std()
-    lags = np.arange(-max_lag, max_lag + 1)
-    lags = lags[np.abs(lags) >= min_lag]
-    if sx == 0 or lags.size == 0:
-        return np.zeros(R.shape[0])
-    Fx = np.conj(np.fft.rfft(xc, 2 * n))
-    ax = _acf(x, L)
+    B, n = R.shape
+    m = 2 * n
     w = 1 - np.arange(L + 1) / (L + 1)
-    out = np.empty(R.shape[0])
-    for b in range(R.shape[0]):
-        rc = R[b] - R[b].mean()
-        sr = rc.std()
-        if sr == 0:
-            out[b] = 0.0
-            continue
-        Fr = np.fft.rfft(rc, 2 * n)
-        cc = np.fft.irfft(Fr * Fx)
-        rho = cc[-lags] / (n * sr * sx)
-        ar = np.fft.irfft(Fr * np.conj(Fr))[: L + 1]
-        ar = ar / ar[0]
-        var = (1 + 2 * np.sum(w[1:] * ar[1:] * ax[1:])) / n
-        se = np.sqrt(max(var, 1.0 / n))
-        out[b] = float(np.max(np.maximum(np.abs(rho) - margin_nm / sr, 0.0) / se))
+    prepared = []
+    for x, min_lag, margin in inputs:
+        xc = x - x.mean()
+        lags = np.arange(-max_lag, max_lag + 1)
+        lags = lags[np.abs(lags) >= min_lag]
+        sx = xc.std()
+        prepared.append(None if sx == 0 or lags.size == 0 else
+                        (np.conj(fft.rfft(xc, m)), _acf(x, L), lags, sx, margin))
+    out = np.zeros((B, len(inputs)))
+    for b0 in range(0, B, 16):  # bounded memory: 16 rows' transforms at a time
+        rc = R[b0:b0 + 16] - R[b0:b0 + 16].mean(axis=1, keepdims=True)
+        sr = rc.std(axis=1)
+        Fr = fft.rfft(rc, m, axis=1, workers=-1)
+        ar = fft.irfft(Fr * np.conj(Fr), m, axis=1, workers=-1)[:, : L + 1]
+        ar = ar / np.where(ar[:, :1] != 0, ar[:, :1], 1.0)
+        for k, prep in enumerate(prepared):
+            if prep is None:
+                continue
+            Fx, ax, lags, sx, margin = prep
+            cc = fft.irfft(Fr * Fx[None, :], m, axis=1, workers=-1)
+            rho = cc[:, -lags] / (n * np.where(sr > 0, sr, 1.0)[:, None] * sx)
+            var = (1 + 2 * np.sum(w[1:] * ar[:, 1:] * ax[1:], axis=1)) / n
+            se = np.sqrt(np.maximum(var, 1.0 / n))
+            z = np.maximum(np.abs(rho) - margin / np.where(sr > 0, sr, np.inf)[:, None], 0.0) / se[:, None]
+            out[b0:b0 + 16, k] = np.where(sr > 0, np.max(z, axis=1), 0.0)
     return out
 
 
@@ -476,6 +482,24 @@ def gumbel_sf(x: float, draws: np.ndarray) -> float:
     beta = sd * np.sqrt(6.0) / np.pi
     mu = float(np.mean(d)) - np.euler_gamma * beta
     return float(-np.expm1(-np.exp(-(x - mu) / beta)))
+
+
+def ljung_box_many(R, m: int = 20, min_lag: int = 1, margin: float = 0.0) -> np.ndarray:
+    """:func:`ljung_box`'s statistic for every row of ``R`` (the rows' transforms in one call)."""
+    from scipy import fft
+
+    R = np.atleast_2d(np.asarray(R, float))
+    n = R.shape[1]
+    k = np.arange(min_lag, min_lag + m)
+    out = np.empty(R.shape[0])
+    for b0 in range(0, R.shape[0], 16):
+        xc = R[b0:b0 + 16] - R[b0:b0 + 16].mean(axis=1, keepdims=True)
+        F = fft.rfft(xc, 2 * n, axis=1, workers=-1)
+        c = fft.irfft(F * np.conj(F), 2 * n, axis=1, workers=-1)[:, : int(k[-1]) + 1]
+        ac = c[:, k] / np.where(c[:, :1] != 0, c[:, :1], 1.0)
+        ex = np.maximum(ac ** 2 - margin / m, 0.0)
+        out[b0:b0 + 16] = n * (n + 2) * np.sum(ex / (n - k), axis=1)
+    return out
 
 
 def scaled_chi2_sf(x: float, draws: np.ndarray) -> float:
@@ -580,6 +604,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
 
     r_x, r_acc = deflate(r), deflate(r_acc)
     Rn_x = deflate(Rn) if null is not None and len(null) > 1 else None
+    xc_inputs = []
     for name, x in (("velocity", rec.velocity), ("acceleration", acc), ("jerk", jerk),
                     ("sign_velocity", np.sign(rec.velocity)),
                     ("transmitted_torque", np.abs(acc) * np.sign(rec.velocity))):
@@ -598,16 +623,17 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
         xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r_x, x, max_lag, L, ml, mg)
         if xc is not None:
             xcs[name] = xc
-            test = {"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
-                    "statistic": xc["statistic"], "p_value": xc["p_value"]}
-            if Rn_x is not None:
-                # the largest standardised correlation over the lags on every null draw: its law for
-                # the measurement chain at hand (the Bartlett variance assumes noise independent of
-                # the input, which smoothed kinematics are not within the filter's memory)
-                zn = xcorr_statistics(Rn_x, x, max_lag, L, ml, mg)
-                test["p_analytic"] = test["p_value"]
-                test["p_value"] = max(test["p_value"], gumbel_sf(float(xc["statistic"]), zn))
-            tests.append(test)
+            xc_inputs.append((x, ml, mg))
+            tests.append({"test": "cross_correlation", "region": {"input": name, "lag_s": xc["lag_samples"] / fs},
+                          "statistic": xc["statistic"], "p_value": xc["p_value"]})
+    if Rn_x is not None and xc_inputs:
+        # the largest standardised correlation over the lags on every null draw: its law for the
+        # measurement chain at hand (the Bartlett variance assumes noise independent of the input,
+        # which smoothed kinematics are not within the filter's memory)
+        Z = xcorr_statistics(Rn_x, xc_inputs, max_lag, L)
+        for test, zn in zip(tests[-len(xc_inputs):], Z.T):
+            test["p_analytic"] = test["p_value"]
+            test["p_value"] = max(test["p_value"], gumbel_sf(float(test["statistic"]), zn))
     # friction drifting in time: the residual grows along F*(t - t_mid), F the model's friction
     # torque (sign(v) without one). A square wave with the excitation's direction changes, its mean
     # over any time window is ~0, so neither the time windows nor the velocity bands (which average
@@ -637,7 +663,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     if Rn is not None:
         # Q on every null draw (the kinematics' errors through the model are coloured), its law a
         # scaled chi-square matched to the draws' mean and variance (a sum of squares, not a maximum)
-        qn = np.array([ljung_box(y, min_lag=max(1, filter_lags), margin=lb_margin)["statistic"] for y in Rn])
+        qn = ljung_box_many(Rn, min_lag=max(1, filter_lags), margin=lb_margin)
         test["p_analytic"] = test["p_value"]
         test["p_value"] = max(test["p_value"], scaled_chi2_sf(lb["statistic"], qn))
     tests.append(test)
