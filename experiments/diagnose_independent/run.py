@@ -97,13 +97,20 @@ MIDDLE = T.Plant(J=0.15, Fc=1.1, Fs=1.9, vs=0.12, sigma2=0.9, sigma0=120.0, sigm
 STIFF = T.Plant(J=0.1, Fc=0.7, Fs=1.0, vs=0.08, sigma2=1.0, sigma0=250.0, sigma1=1.5)
 SOFT = T.Plant(J=0.3, Fc=1.2, Fs=2.0, vs=0.2, sigma2=0.4, sigma0=30.0, sigma1=0.5)
 TINY = T.Plant(J=0.02, Fc=0.3, Fs=0.45, vs=0.05, sigma2=0.5, sigma0=100.0, sigma1=0.5)
+# plants of the calib4 study only (no earlier study used them; all passive): a mid-size joint with a
+# sharp Stribeck dip, a massive one with stiff bristles, a light one with strong damping
+SHARP = T.Plant(J=0.12, Fc=0.6, Fs=1.1, vs=0.04, sigma2=1.5, sigma0=180.0, sigma1=1.2)
+MASSIVE = T.Plant(J=0.6, Fc=2.5, Fs=3.2, vs=0.1, sigma2=1.0, sigma0=400.0, sigma1=3.0)
+DAMPED = T.Plant(J=0.05, Fc=0.4, Fs=0.55, vs=0.15, sigma2=2.5, sigma0=60.0, sigma1=4.0)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
           "nimble": (NIMBLE, T.VelocityPIController(kp=3.0, ki=20.0)), "sluggish": (SLUGGISH, T.VelocityPIController(kp=15.0, ki=100.0)),
           "middle": (MIDDLE, T.VelocityPIController(kp=8.0, ki=50.0)),
           "stiff": (STIFF, T.VelocityPIController(kp=6.0, ki=36.0)), "soft": (SOFT, T.VelocityPIController(kp=18.0, ki=110.0)),
-          "tiny": (TINY, T.VelocityPIController(kp=1.3, ki=8.0))}
+          "tiny": (TINY, T.VelocityPIController(kp=1.3, ki=8.0)),
+          "sharp": (SHARP, T.VelocityPIController(kp=7.5, ki=45.0)), "massive": (MASSIVE, T.VelocityPIController(kp=37.0, ki=220.0)),
+          "damped": (DAMPED, T.VelocityPIController(kp=3.0, ki=18.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -112,7 +119,9 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "light": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002), "heavy": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
         "flat": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003),
         "stiff": T.PositionPIDController.tuned(0.1, 3.0, tf=0.003), "soft": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
-        "tiny": T.PositionPIDController.tuned(0.02, 3.5, tf=0.002)}
+        "tiny": T.PositionPIDController.tuned(0.02, 3.5, tf=0.002),
+        "sharp": T.PositionPIDController.tuned(0.12, 3.0, tf=0.003), "massive": T.PositionPIDController.tuned(0.6, 2.5, tf=0.005),
+        "damped": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002)}
 
 
 def controller_of(job):
@@ -483,6 +492,67 @@ def calib3_settings(n: int = 40):
     return out
 
 
+# calib4's excitations: the six kinds with parameters no earlier set used
+CALIB4_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.03, 0.1, 0.4, 1.5, 4.0), "dwell": 5.0 if i % 2 else 4.0,
+                            "transition": 0.4, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.0 + 1.0 * (i % 3), "f0": 0.03, "f1": 1.8, "duration": 50.0,
+                             "bias": 0.4 + 0.6 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 1.5 + 1.5 * (i % 2), "f0": 0.05, "f1": 0.8 + 0.6 * (i % 3),
+                            "n": 7 + 5 * (i % 2), "duration": 50.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 3.5 * (i % 3), "frequency": 0.08 + 0.12 * (i % 2),
+                                "duration": 40.0},
+    "point_to_point": lambda i: {"amplitudes": (2.0, -3.0, 3.5, -0.5, 1.5) if i % 2 else (-2.5, 3.0, 0.0, -4.5, 2.5, -1.0),
+                                 "move_time": 0.9 + 0.9 * (i % 2), "dwell": 2.2, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.025, 0.15, 0.7, 3.0, 5.5), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib4_settings(n: int = 40):
+    """A fourth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (SHARP, MASSIVE, DAMPED), 130-650 Hz, torque noise 0.04-0.08 N*m, white in half
+    the rows and AR(1) of coefficient 0.4 or 0.65 in the other half, velocity noise 0.002-0.004
+    deg/s, quantisation 0.0005-0.0012 deg; seeds 9500 + i."""
+    exc = list(CALIB4_EXCITATIONS)
+    sensors = [(False, True), (True, True), (True, False)]
+    plants = ["sharp", "massive", "damped"]
+    fs = [130.0, 220.0, 330.0, 450.0, 650.0]
+    tn = [0.05, 0.08, 0.04]
+    ar = [0.0, 0.4, 0.65, 0.0]
+    out = []
+    for i in range(n):
+        e, c, (pcol, vcol) = exc[i % 6], ("pid", "pi")[(i // 6) % 2], sensors[(i // 12) % 3]
+        ctrl = "pid_nff" if c == "pid" and i % 4 == 2 else c
+        out.append({"key": f"calib4_{i:02d}_{e}_{ctrl}", "plant": plants[(i + 2 * (i // 6)) % 3], "controller": ctrl,
+                    "excitation": e, "excitation_kw": CALIB4_EXCITATIONS[e](i), "fs": fs[(2 * i + i // 6) % 5],
+                    "torque_noise": tn[(i + i // 4) % 3], "torque_noise_ar": ar[(i + i // 6) % 4],
+                    "velocity_noise": [0.004, 0.002][(i // 2) % 2] if vcol else 0.0,
+                    "quantisation": [0.0012, 0.0005][(i // 3) % 2] if pcol else 0.0,
+                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": 9500 + i,
+                    "expected": "none"})
+    return out
+
+
+# fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F6_FS = {"a": 320.0, "b": 360.0, "c": 260.0, "d": 600.0, "e": 420.0, "f": 200.0, "g": 380.0, "h": 300.0, "i": 240.0}
+_F6_RECIPES = {k: r[:4] + (_F6_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F6_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 2.3},
+              "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+              "position_ripple": lambda kw: kw | {"period": 1.15 * kw["period"], "phase": kw["phase"] + 2.0},
+              "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
+
+
+def fresh6_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (9600 + k), with the gravity's phase, the asymmetry's and drift's
+    sign and the ripple's period and phase changed."""
+    return [_recipe_job(f"fresh6_effect{k:02d}_{eid}_{r}", r, 9600 + k,
+                        [(eid, _F6_VARIED.get(eid, dict)(dict(kw)))], eid, _F6_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 # fresh5: fresh3's effect recipes at yet other sampling rates and seeds, the effects' phases, signs
 # and ripple periods changed again where that leaves their size alone
 _F5_FS = {"a": 280.0, "b": 400.0, "c": 220.0, "d": 700.0, "e": 500.0, "f": 350.0, "g": 260.0, "h": 240.0, "i": 450.0}
@@ -632,6 +702,10 @@ def jobs(study: str, seeds, strengths):
         return calib3_settings()
     if study == "fresh5":
         return fresh5_settings()
+    if study == "calib4":
+        return calib4_settings()
+    if study == "fresh6":
+        return fresh6_settings()
     if study == "null":
         return null_settings()
     if study == "heldout":
@@ -785,7 +859,7 @@ def run_one(job, top_k, cache=None):
     return row
 
 
-NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5")
+NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6")
 
 
 def main():

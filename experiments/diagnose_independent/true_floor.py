@@ -1,0 +1,48 @@
+"""The noise floor against what the TRUE model reaches: each effect-free recording of a study is
+diagnosed with the generator's own plant as the baseline (``params=``, no fit), so the baseline's
+held-out RMSE is the true model's through the tool's own conditioning; that is the floor a complete
+model can reach (torque noise plus the kinematics' errors carried through the true model). Writes
+one line per recording to <out>/true_floor_<study>.jsonl and prints the floor against it and
+against the true torque noise.
+
+    python experiments/diagnose_independent/true_floor.py --study calib3 --shard 0/2   # and 1/2
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import run as R
+from lugre_jax.diagnose import diagnose
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--study", choices=("calib2", "calib3"), required=True)
+    ap.add_argument("--shard", default="0/1", help="i/n: every n-th recording starting at i")
+    a = ap.parse_args()
+    i, n = (int(x) for x in a.shard.split("/"))
+    out = Path(__file__).resolve().with_name("results") / a.study
+    path = out / f"true_floor_{a.study}.jsonl"
+    done = {json.loads(line)["key"] for line in path.read_text().splitlines()} if path.exists() else set()
+    jobs = [j for k, j in enumerate(R.jobs(a.study, [11], [1.0])) if k % n == i and j["key"] not in done]
+    for job in jobs:
+        g, _ = R.generated(job, out / "cache")
+        plant, _ = R.controller_of(job)
+        params = {k: float(getattr(plant, k)) for k in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
+        rep = diagnose(g.to_recording(), params=params | {"offset": 0.0, "friction_model": "LuGre"},
+                       candidates=[], progress=False)
+        b = rep.baseline
+        row = {"key": job["key"], "true_torque_noise": g.torque_noise_std,
+               "true_model_validation_rmse": b.validation_rmse_nm, "noise_floor": b.noise_floor_nm,
+               "torque_noise_estimate": b.torque_noise_nm, "kinematic_noise": b.kinematic_noise_nm}
+        with open(path, "a") as fh:
+            fh.write(json.dumps(row) + "\n")
+        print(f"{job['key']}: floor / true-model held-out RMSE {b.noise_floor_nm / b.validation_rmse_nm:.3f}, "
+              f"floor / true torque noise {b.noise_floor_nm / g.torque_noise_std:.3f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
