@@ -396,30 +396,40 @@ CALIB2_EXCITATIONS = {
 }
 
 
+def _effect_free_set(prefix, excitations, plants, sensors, fs, tn, ar, vn, q, seed0, n, *, loops, nff, plant_k,
+                     fs_k, tn_rule):
+    """The effect-free sets' design (calib2-4): row i cycles the six excitations, then the loops
+    (``loops``, with ``pid_nff`` where ``i % 4 == nff``), then the sensor sets every 12 rows; the
+    plant is ``plants[(i + plant_k*(i//6)) % 3]``, the rate ``fs[(fs_k*i + i//6) % 5]``, the torque
+    noise ``tn[(i + m*(i//d)) % 3]`` (``tn_rule = (m, d)``), its AR coefficient
+    ``ar[(i + i//6) % 4]``, velocity noise ``vn[(i//2) % 2]`` and quantisation
+    ``q[(i//3) % len(q)]`` where the column exists; seed ``seed0 + i``."""
+    exc = list(excitations)
+    m, d = tn_rule
+    out = []
+    for i in range(n):
+        e, c, (pcol, vcol) = exc[i % 6], loops[(i // 6) % 2], sensors[(i // 12) % 3]
+        ctrl = "pid_nff" if c == "pid" and i % 4 == nff else c
+        out.append({"key": f"{prefix}_{i:02d}_{e}_{ctrl}", "plant": plants[(i + plant_k * (i // 6)) % 3],
+                    "controller": ctrl, "excitation": e, "excitation_kw": excitations[e](i),
+                    "fs": fs[(fs_k * i + i // 6) % 5], "torque_noise": tn[(i + m * (i // d)) % 3],
+                    "torque_noise_ar": ar[(i + i // 6) % 4], "velocity_noise": vn[(i // 2) % 2] if vcol else 0.0,
+                    "quantisation": q[(i // 3) % len(q)] if pcol else 0.0,
+                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": seed0 + i,
+                    "expected": "none"})
+    return out
+
+
 def calib2_settings(n: int = 40):
     """A second effect-free set (issues #30 and #31), fixed and committed before its first run: the
     six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
     calib does not use (LIGHT, HEAVY, FLAT), 120-800 Hz, torque noise 0.04-0.1 N*m, white in half the rows and
     AR(1) of coefficient 0.45 or 0.7 in the other half, velocity noise 0.002-0.006 deg/s,
     quantisation 0.0003-0.0015 deg; seeds 7000 + i."""
-    exc = list(CALIB2_EXCITATIONS)
-    sensors = [(True, False), (False, True), (True, True)]
-    plants = ["light", "heavy", "flat"]
-    fs = [120.0, 300.0, 400.0, 600.0, 800.0]
-    tn = [0.04, 0.07, 0.1]
-    ar = [0.0, 0.45, 0.0, 0.7]
-    out = []
-    for i in range(n):
-        e, c, (pcol, vcol) = exc[i % 6], ("pid", "pi")[(i // 6) % 2], sensors[(i // 12) % 3]
-        ctrl = "pid_nff" if c == "pid" and i % 4 == 1 else c
-        out.append({"key": f"calib2_{i:02d}_{e}_{ctrl}", "plant": plants[(i + 2 * (i // 6)) % 3], "controller": ctrl,
-                    "excitation": e, "excitation_kw": CALIB2_EXCITATIONS[e](i), "fs": fs[(2 * i + i // 6) % 5],
-                    "torque_noise": tn[(i + i // 5) % 3], "torque_noise_ar": ar[(i + i // 6) % 4],
-                    "velocity_noise": [0.002, 0.006][(i // 2) % 2] if vcol else 0.0,
-                    "quantisation": [0.0003, 0.0008, 0.0015][(i // 3) % 3] if pcol else 0.0,
-                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": 7000 + i,
-                    "expected": "none"})
-    return out
+    return _effect_free_set("calib2", CALIB2_EXCITATIONS, ["light", "heavy", "flat"],
+                            [(True, False), (False, True), (True, True)], [120.0, 300.0, 400.0, 600.0, 800.0],
+                            [0.04, 0.07, 0.1], [0.0, 0.45, 0.0, 0.7], [0.002, 0.006], [0.0003, 0.0008, 0.0015],
+                            7000, n, loops=("pid", "pi"), nff=1, plant_k=2, fs_k=2, tn_rule=(1, 5))
 
 
 # fresh4: fresh3's recipes at other sampling rates and seeds; the effect-free rows also on other
@@ -472,24 +482,10 @@ def calib3_settings(n: int = 40):
     earlier study used (STIFF, SOFT, TINY), 150-700 Hz, torque noise 0.03-0.09 N*m, white in half
     the rows and AR(1) of coefficient 0.3 or 0.6 in the other half, velocity noise 0.003-0.005
     deg/s, quantisation 0.0004-0.001 deg; seeds 9000 + i."""
-    exc = list(CALIB3_EXCITATIONS)
-    sensors = [(True, True), (True, False), (False, True)]
-    plants = ["stiff", "soft", "tiny"]
-    fs = [150.0, 250.0, 350.0, 500.0, 700.0]
-    tn = [0.03, 0.06, 0.09]
-    ar = [0.3, 0.0, 0.6, 0.0]
-    out = []
-    for i in range(n):
-        e, c, (pcol, vcol) = exc[i % 6], ("pi", "pid")[(i // 6) % 2], sensors[(i // 12) % 3]
-        ctrl = "pid_nff" if c == "pid" and i % 4 == 3 else c
-        out.append({"key": f"calib3_{i:02d}_{e}_{ctrl}", "plant": plants[(i + i // 6) % 3], "controller": ctrl,
-                    "excitation": e, "excitation_kw": CALIB3_EXCITATIONS[e](i), "fs": fs[(3 * i + i // 6) % 5],
-                    "torque_noise": tn[(i + 2 * (i // 5)) % 3], "torque_noise_ar": ar[(i + i // 6) % 4],
-                    "velocity_noise": [0.003, 0.005][(i // 2) % 2] if vcol else 0.0,
-                    "quantisation": [0.0004, 0.001][(i // 3) % 2] if pcol else 0.0,
-                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": 9000 + i,
-                    "expected": "none"})
-    return out
+    return _effect_free_set("calib3", CALIB3_EXCITATIONS, ["stiff", "soft", "tiny"],
+                            [(True, True), (True, False), (False, True)], [150.0, 250.0, 350.0, 500.0, 700.0],
+                            [0.03, 0.06, 0.09], [0.3, 0.0, 0.6, 0.0], [0.003, 0.005], [0.0004, 0.001],
+                            9000, n, loops=("pi", "pid"), nff=3, plant_k=1, fs_k=3, tn_rule=(2, 5))
 
 
 # calib4's excitations: the six kinds with parameters no earlier set used
@@ -514,24 +510,10 @@ def calib4_settings(n: int = 40):
     earlier set used (SHARP, MASSIVE, DAMPED), 130-650 Hz, torque noise 0.04-0.08 N*m, white in half
     the rows and AR(1) of coefficient 0.4 or 0.65 in the other half, velocity noise 0.002-0.004
     deg/s, quantisation 0.0005-0.0012 deg; seeds 9500 + i."""
-    exc = list(CALIB4_EXCITATIONS)
-    sensors = [(False, True), (True, True), (True, False)]
-    plants = ["sharp", "massive", "damped"]
-    fs = [130.0, 220.0, 330.0, 450.0, 650.0]
-    tn = [0.05, 0.08, 0.04]
-    ar = [0.0, 0.4, 0.65, 0.0]
-    out = []
-    for i in range(n):
-        e, c, (pcol, vcol) = exc[i % 6], ("pid", "pi")[(i // 6) % 2], sensors[(i // 12) % 3]
-        ctrl = "pid_nff" if c == "pid" and i % 4 == 2 else c
-        out.append({"key": f"calib4_{i:02d}_{e}_{ctrl}", "plant": plants[(i + 2 * (i // 6)) % 3], "controller": ctrl,
-                    "excitation": e, "excitation_kw": CALIB4_EXCITATIONS[e](i), "fs": fs[(2 * i + i // 6) % 5],
-                    "torque_noise": tn[(i + i // 4) % 3], "torque_noise_ar": ar[(i + i // 6) % 4],
-                    "velocity_noise": [0.004, 0.002][(i // 2) % 2] if vcol else 0.0,
-                    "quantisation": [0.0012, 0.0005][(i // 3) % 2] if pcol else 0.0,
-                    "position_column": pcol, "velocity_column": vcol, "effects": [], "seed": 9500 + i,
-                    "expected": "none"})
-    return out
+    return _effect_free_set("calib4", CALIB4_EXCITATIONS, ["sharp", "massive", "damped"],
+                            [(False, True), (True, True), (True, False)], [130.0, 220.0, 330.0, 450.0, 650.0],
+                            [0.05, 0.08, 0.04], [0.0, 0.4, 0.65, 0.0], [0.004, 0.002], [0.0012, 0.0005],
+                            9500, n, loops=("pid", "pi"), nff=2, plant_k=2, fs_k=2, tn_rule=(1, 4))
 
 
 # fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
