@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -25,15 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 from test_simulate_reference import CASES, J, KI, KP, scipy_reference  # noqa: E402
 
-
-def _best_of(fn, repeat=5):
-    fn()
-    best = np.inf
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return best
+from _timing import best_of  # noqa: E402
 
 
 def main(argv=None):
@@ -52,7 +43,7 @@ def main(argv=None):
             rows.append(dict(case=name, stepping=label, samples=int(sol.ts.shape[0]),
                              theta_err_deg=float(np.max(np.abs(np.asarray(sol.theta) - theta))),
                              torque_err_nm=float(np.max(np.abs(np.asarray(sol.torque_nm) - torque))),
-                             solve_s=_best_of(run)))
+                             solve_s=best_of(run, 5)))
             r = rows[-1]
             print(f"{name:20s} {label:26s} theta {r['theta_err_deg']:.1e} deg  torque {r['torque_err_nm']:.1e} N*m  "
                   f"{1e3 * r['solve_s']:.2f} ms", flush=True)

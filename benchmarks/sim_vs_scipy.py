@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 import lugre_jax as lj
+from _timing import best_of
 from lugre_jax.testing import velocity_staircase
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -65,16 +66,6 @@ def scipy_loop(Fs: float, sigma0: float, s1: float, rtol=1e-6, atol=1e-9, method
     _, states = velocity_staircase(lj.PAPER_J, float(seg.Fc), Fs, float(seg.vs), sigma0, s1, float(seg.sigma2),
                                    KP, KI, LEVELS, DWELL, DURATION, HZ, method=method, rtol=rtol, atol=atol)
     return states[:, 0]
-
-
-def timed(fn, repeat=2):
-    fn()
-    best = np.inf
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return best
 
 
 def main(argv=None):
@@ -141,8 +132,8 @@ def main(argv=None):
         sol = lj.simulate(system, DURATION, HZ, batched=True, stepping=stepping)
         theta = np.asarray(sol.theta)
         first = time.perf_counter() - t
-        wall = timed(lambda: jax.block_until_ready(lj.simulate(system, DURATION, HZ, batched=True,
-                                                               stepping=stepping).theta))
+        wall = best_of(lambda: jax.block_until_ready(lj.simulate(system, DURATION, HZ, batched=True,
+                                                               stepping=stepping).theta), 2)
         # a lane that blew up counts as infinitely far (never as within tolerance)
         err = np.max(np.abs(theta[picked] - tight), axis=1)
         err = np.where(np.isfinite(err) & (np.asarray(sol.result)[picked] == lj.RESULT_OK), err, np.inf)
