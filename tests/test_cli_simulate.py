@@ -79,3 +79,15 @@ def test_console_script_exit_code_and_single_line(tmp_path):
     assert r.returncode == 2
     assert "missing.json: no such file; expected a scenario JSON file" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_non_passive_scenario_is_noted_by_name():
+    """The paper's segment 1 is not passive (sigma2 2.98 against the 14.0 it needs): simulate builds it
+    and says so on its progress channel in one line naming sigma2; a passive set gives no note."""
+    import lugre_jax as lj
+    from lugre_jax._cli.simulate import passivity_notes
+
+    notes = passivity_notes(lj.paper_segment(1))
+    assert len(notes) == 1 and "\n" not in notes[0] and notes[0].startswith("LuGre(sigma2=") and "not passive" in notes[0]
+    passive = lj.LuGre(Fc=1.0, Fs=1.2, vs=0.1, sigma2=5.0, sigma0=100.0, sigma1=2.0)
+    assert passivity_notes(passive) == []

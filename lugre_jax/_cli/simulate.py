@@ -25,6 +25,23 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
 
 
+def passivity_notes(friction) -> list[str]:
+    """One line per LuGre set of ``friction`` (a segment of a Segmented model too) that is not
+    passive, as LuGre(require_passive=True) words it; the scenario builds it anyway (on purpose, as
+    the paper's segment 1), so this is said on the progress channel, not as an error."""
+    from ..friction import LuGre, Segmented
+
+    out = []
+    for m in friction.segments if isinstance(friction, Segmented) else (friction,):
+        if isinstance(m, LuGre):
+            try:
+                LuGre(Fc=m.Fc, Fs=m.Fs, vs=m.vs, sigma2=m.sigma2, sigma0=m.sigma0, sigma1=m.sigma1, delta=m.delta,
+                      require_passive=True)
+            except ValueError as e:
+                out.append(str(e))
+    return out
+
+
 def check(args) -> None:
     check_input(args.scenario, "a scenario JSON file (schema: lugre_jax/scenario/_build.py)")
     check_outputs(args, out=".csv", plot=".png")
@@ -44,6 +61,8 @@ def run(args) -> int:
         out = outs.file(args.out, "--out", ".csv")
         plot = outs.file(args.plot, "--plot", ".png") if args.plot else None
         system, opts = load_scenario(args.scenario)
+        for note in passivity_notes(system.friction):
+            say(f"note: {note}")
         n = int(round(opts["duration_s"] * opts["sample_hz"])) + 1
         check_output_size(csv_output_bytes(n, _COLUMNS), "--out", args.out, args.force)
         stepping = opts.get("stepping")
