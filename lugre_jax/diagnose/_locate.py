@@ -388,12 +388,40 @@ def time_periodogram(t, r, half_window: int = 200):
             "frequency": float(f[i])}
 
 
-def _acf(x, L):
-    x = x - x.mean()
-    n = x.size
-    F = np.fft.rfft(x, 2 * n)
-    c = np.fft.irfft(F * np.conj(F))[: L + 1] / n
-    return c / c[0]
+def _row_spectra(R, m: int, L: int):
+    """Each row's std, transform (length ``m``, centred) and autocorrelation to lag ``L``."""
+    from scipy import fft
+
+    rc = R - R.mean(axis=1, keepdims=True)
+    Fr = fft.rfft(rc, m, axis=1, workers=-1)
+    ar = fft.irfft(Fr * np.conj(Fr), m, axis=1, workers=-1)[:, : L + 1]
+    return rc.std(axis=1), Fr, ar / np.where(ar[:, :1] != 0, ar[:, :1], 1.0)
+
+
+def _xcorr_input(x, max_lag: int, L: int, min_lag: int, m: int):
+    """An input's conjugate transform, autocorrelation, tested lags and std; None if it is constant
+    or no lag is left."""
+    lags = np.arange(-max_lag, max_lag + 1)
+    lags = lags[np.abs(lags) >= min_lag]
+    sx, Fx, ax = (y[0] for y in _row_spectra(x[None, :], m, L))
+    if sx == 0 or lags.size == 0:
+        return None
+    return np.conj(Fx), ax, lags, sx
+
+
+def _xcorr_z(sr, Fr, ar, inp, n: int, L: int, margin_nm: float):
+    """Correlations at the input's lags (rows x lags), their Bartlett standard error (rows) and the
+    standardised excess over the margin (rows x lags); a constant row gives 0."""
+    from scipy import fft
+
+    Fx, ax, lags, sx = inp
+    cc = fft.irfft(Fr * Fx[None, :], 2 * (Fr.shape[1] - 1), axis=1, workers=-1)
+    # corr(r_t, x_{t+k}) = cc[-k] with this FFT convention (k > 0 wraps to the end)
+    rho = cc[:, -lags] / (n * np.where(sr > 0, sr, 1.0)[:, None] * sx)
+    w = 1 - np.arange(L + 1) / (L + 1)
+    se = np.sqrt(np.maximum((1 + 2 * np.sum(w[1:] * ar[:, 1:] * ax[1:], axis=1)) / n, 1.0 / n))
+    z = np.maximum(np.abs(rho) - margin_nm / np.where(sr > 0, sr, np.inf)[:, None], 0.0) / se[:, None]
+    return rho, se, z
 
 
 def xcorr_test(r, x, max_lag: int, L: int, min_lag: int = 0, margin_nm: float = 0.0):
@@ -404,64 +432,30 @@ def xcorr_test(r, x, max_lag: int, L: int, min_lag: int = 0, margin_nm: float = 
     ``margin_nm``: the residual's part along the standardised input (``corr * std(r)``, N*m per
     input std) that is not claimed; the statistic counts only the correlation beyond it."""
     n = r.size
-    rc, xc = r - r.mean(), x - x.mean()
-    sr, sx = rc.std(), xc.std()
-    if sx == 0:
+    inp = _xcorr_input(np.asarray(x, float), max_lag, L, min_lag, 2 * n)
+    if inp is None:
         return None
-    F = np.fft.rfft(rc, 2 * n) * np.conj(np.fft.rfft(xc, 2 * n))
-    cc = np.fft.irfft(F)
-    lags = np.arange(-max_lag, max_lag + 1)
-    lags = lags[np.abs(lags) >= min_lag]
-    if lags.size == 0:
-        return None
-    rho = np.array([cc[-k] for k in lags]) / (n * sr * sx)
-    # corr(r_t, x_{t+k}) = cc[-k] with this FFT convention (k > 0 wraps to the end)
-    ar, ax = _acf(r, L), _acf(x, L)
-    w = 1 - np.arange(L + 1) / (L + 1)
-    var = (1 + 2 * np.sum(w[1:] * ar[1:] * ax[1:])) / n
-    se = np.sqrt(max(var, 1.0 / n))
-    zz = np.maximum(np.abs(rho) - margin_nm / sr, 0.0) / se
+    rho, se, z = _xcorr_z(*_row_spectra(np.asarray(r, float)[None, :], 2 * n, L), inp, n, L, margin_nm)
+    rho, se, zz = rho[0], float(se[0]), z[0]
     j = int(np.argmax(zz))
-    p = float(min(1.0, lags.size * 2 * stats.norm.sf(zz[j])))
-    return {"lag_samples": int(lags[j]), "correlation": float(rho[j]), "statistic": float(zz[j]),
-            "p_value": p, "rho": rho, "lags": lags, "se": se}
+    p = float(min(1.0, inp[2].size * 2 * stats.norm.sf(zz[j])))
+    return {"lag_samples": int(inp[2][j]), "correlation": float(rho[j]), "statistic": float(zz[j]),
+            "p_value": p, "rho": rho, "lags": inp[2], "se": se}
 
 
 def xcorr_statistics(R, inputs, max_lag: int, L: int) -> np.ndarray:
     """:func:`xcorr_test`'s statistic for every row of ``R`` (draws x n) against each input of
     ``inputs`` (``(x, min_lag, margin_nm)`` triples): draws x inputs. Each row's transform and
     autocorrelation are computed once for all inputs, each input's once for all rows."""
-    from scipy import fft
-
     R = np.atleast_2d(np.asarray(R, float))
     B, n = R.shape
-    m = 2 * n
-    w = 1 - np.arange(L + 1) / (L + 1)
-    prepared = []
-    for x, min_lag, margin in inputs:
-        xc = x - x.mean()
-        lags = np.arange(-max_lag, max_lag + 1)
-        lags = lags[np.abs(lags) >= min_lag]
-        sx = xc.std()
-        prepared.append(None if sx == 0 or lags.size == 0 else
-                        (np.conj(fft.rfft(xc, m)), _acf(x, L), lags, sx, margin))
+    prepared = [(_xcorr_input(np.asarray(x, float), max_lag, L, ml, 2 * n), mg) for x, ml, mg in inputs]
     out = np.zeros((B, len(inputs)))
     for b0 in range(0, B, 16):  # bounded memory: 16 rows' transforms at a time
-        rc = R[b0:b0 + 16] - R[b0:b0 + 16].mean(axis=1, keepdims=True)
-        sr = rc.std(axis=1)
-        Fr = fft.rfft(rc, m, axis=1, workers=-1)
-        ar = fft.irfft(Fr * np.conj(Fr), m, axis=1, workers=-1)[:, : L + 1]
-        ar = ar / np.where(ar[:, :1] != 0, ar[:, :1], 1.0)
-        for k, prep in enumerate(prepared):
-            if prep is None:
-                continue
-            Fx, ax, lags, sx, margin = prep
-            cc = fft.irfft(Fr * Fx[None, :], m, axis=1, workers=-1)
-            rho = cc[:, -lags] / (n * np.where(sr > 0, sr, 1.0)[:, None] * sx)
-            var = (1 + 2 * np.sum(w[1:] * ar[:, 1:] * ax[1:], axis=1)) / n
-            se = np.sqrt(np.maximum(var, 1.0 / n))
-            z = np.maximum(np.abs(rho) - margin / np.where(sr > 0, sr, np.inf)[:, None], 0.0) / se[:, None]
-            out[b0:b0 + 16, k] = np.where(sr > 0, np.max(z, axis=1), 0.0)
+        spectra = _row_spectra(R[b0:b0 + 16], 2 * n, L)
+        for k, (inp, mg) in enumerate(prepared):
+            if inp is not None:
+                out[b0:b0 + 16, k] = np.max(_xcorr_z(*spectra, inp, n, L, mg)[2], axis=1)
     return out
 
 
@@ -485,20 +479,14 @@ def gumbel_sf(x: float, draws: np.ndarray) -> float:
 
 
 def ljung_box_many(R, m: int = 20, min_lag: int = 1, margin: float = 0.0) -> np.ndarray:
-    """:func:`ljung_box`'s statistic for every row of ``R`` (the rows' transforms in one call)."""
-    from scipy import fft
-
+    """:func:`ljung_box`'s statistic for every row of ``R`` (16 rows' transforms at a time)."""
     R = np.atleast_2d(np.asarray(R, float))
     n = R.shape[1]
     k = np.arange(min_lag, min_lag + m)
     out = np.empty(R.shape[0])
     for b0 in range(0, R.shape[0], 16):
-        xc = R[b0:b0 + 16] - R[b0:b0 + 16].mean(axis=1, keepdims=True)
-        F = fft.rfft(xc, 2 * n, axis=1, workers=-1)
-        c = fft.irfft(F * np.conj(F), 2 * n, axis=1, workers=-1)[:, : int(k[-1]) + 1]
-        ac = c[:, k] / np.where(c[:, :1] != 0, c[:, :1], 1.0)
-        ex = np.maximum(ac ** 2 - margin / m, 0.0)
-        out[b0:b0 + 16] = n * (n + 2) * np.sum(ex / (n - k), axis=1)
+        ac = _row_spectra(R[b0:b0 + 16], 2 * n, int(k[-1]))[2][:, k]
+        out[b0:b0 + 16] = n * (n + 2) * np.sum(np.maximum(ac ** 2 - margin / m, 0.0) / (n - k), axis=1)
     return out
 
 
@@ -520,12 +508,8 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
     (autocorrelations below ``sqrt(margin/m)`` per lag are discounted): a baseline at its noise floor
     on a long recording leaves weak colour from the conditioning (measured: a 0.005-deg encoder,
     ratio 1.004, Ljung-Box p 1e-4) that is not missing physics."""
-    n = r.size
-    k = np.arange(min_lag, min_lag + m)
-    ac = _acf(r, int(k[-1]))[k]
-    ex = np.maximum(ac ** 2 - margin / m, 0.0)
-    Q = n * (n + 2) * np.sum(ex / (n - k))
-    return {"statistic": float(Q), "df": m, "p_value": float(stats.chi2.sf(Q, m))}
+    Q = float(ljung_box_many(r, m, min_lag, margin)[0])
+    return {"statistic": Q, "df": m, "p_value": float(stats.chi2.sf(Q, m))}
 
 
 def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, keep=None,
@@ -591,9 +575,9 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     nuis = known.get("nuisance")
     Q = None
     if nuis is not None and keep.any():
-        N = np.asarray(nuis, float).reshape(r.size, -1)[keep]
-        U, sv, _ = np.linalg.svd(N, full_matrices=False)
-        Q = U[:, sv > 1e-8 * max(float(sv[0]), 1e-300)] if sv.size else None
+        from ._calibrate import _orth
+
+        Q = _orth(np.asarray(nuis, float).reshape(r.size, -1)[keep])
 
     def deflate(y):
         if Q is None or Q.shape[1] == 0:

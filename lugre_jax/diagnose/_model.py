@@ -527,8 +527,7 @@ BIG_ACCELERATION = 0.2
 
 def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: int = VALIDATION_PHASE) -> np.ndarray:
     """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost),
-    at ``phase`` (:func:`validation_phase` chooses it; docs/diagnosis.md: a phase drawn per group
-    was tried and withdrawn)."""
+    at ``phase`` (:func:`validation_phase` chooses it)."""
     return (blocks % every) == phase
 
 
