@@ -54,6 +54,25 @@ def run_main(name: str, doc: str, default_out: Path, argv=None) -> None:
     print(f"wrote {out}")
 
 
+def identification_parser(doc: str, script: str, method: str, seeds: int, refine: bool = False,
+                          data: bool = True) -> argparse.ArgumentParser:
+    """The options of the static-identification ``run.py`` scripts: ``--data`` (a Stribeck CSV, the
+    shipped synthetic data by default; only with ``data``), ``--method``, ``--seeds``, ``--refine`` (or
+    ``--no-refine`` where ``refine`` is the default; either way ``args.refine``) and ``--out`` (the
+    ``results`` folder beside ``script`` by default). A script adds its own options to the parser."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    if data:
+        ap.add_argument("--data", default=str(Path(__file__).resolve().parents[1] / "data" / "stribeck_paper_like.csv"))
+    ap.add_argument("--method", default=method)
+    ap.add_argument("--seeds", type=int, default=seeds)
+    if refine:
+        ap.add_argument("--no-refine", dest="refine", action="store_false")
+    else:
+        ap.add_argument("--refine", action="store_true")
+    ap.add_argument("--out", default=str(Path(script).with_name("results")))
+    return ap
+
+
 def results_for_plot(doc: str, default: Path, needs: tuple[str, ...], argv=None) -> Path:
     """The argument handling every experiment's ``plot.py`` shares; returns the results folder.
 
@@ -72,6 +91,28 @@ def results_for_plot(doc: str, default: Path, needs: tuple[str, ...], argv=None)
             raise SystemExit(f"{res / name} not found: run experiments/{Path(default).parent.name}/run.py "
                              "first (with --out DIR when the results are not in the default folder)")
     return res
+
+
+def read_results(doc: str, default: Path, needs: tuple[str, ...], argv=None) -> tuple[Path, tuple]:
+    """:func:`results_for_plot`, then every file of ``needs`` read: a ``.json`` parsed, a ``.csv`` as
+    a numpy record array named by its header. Returns the folder and the contents in ``needs``' order."""
+    res = results_for_plot(doc, default, needs, argv)
+    import numpy as np
+
+    def read(path: Path):
+        if path.suffix == ".csv":
+            return np.genfromtxt(path, delimiter=",", names=True)
+        return json.loads(path.read_text())
+
+    return res, tuple(read(res / name) for name in needs)
+
+
+def write_figure(fig, path: Path) -> None:
+    """Save a plot.py's figure (atomically, closing it) and name the file written."""
+    from lugre_jax.io import save_figure
+
+    save_figure(fig, path)
+    print(f"wrote {path}")
 
 
 def plot_main(name: str, default_out: Path, argv=None) -> None:

@@ -7,25 +7,18 @@ Writes DIR/fig05_convergence.png.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from lugre_jax.io import save_figure
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
-from _common import results_for_plot  # noqa: E402
-
-HERE = Path(__file__).resolve().parent
+from _common import read_results, write_figure  # noqa: E402
 
 
-def main(argv=None) -> int:
-    res = results_for_plot(__doc__, HERE / "results", ("convergence.json",), argv)
-    path = res / "convergence.json"
-    d = json.loads(path.read_text())
+def main(argv=None) -> None:
+    res, (d,) = read_results(__doc__, Path(__file__).resolve().with_name("results"), ("convergence.json",), argv)
     j_ref = d["problem"]["reference_J"]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     for (label, m), c in zip(d["methods"].items(), ["C0", "C3", "C2"]):
@@ -45,11 +38,8 @@ def main(argv=None) -> int:
     axes[0].legend(fontsize=8)
     fig.suptitle(f"Segment (1) static identification, {d['seeds']} seeds: median and 10-90% band "
                  f"($J_{{ref}}$ = {j_ref:.4g})", fontsize=10)
-    out = res / "fig05_convergence.png"
-    save_figure(fig, out)
-    print(f"wrote {out}")
-    return 0
+    write_figure(fig, res / "fig05_convergence.png")
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main()

@@ -1,23 +1,17 @@
 """Plot Fig. 6 (identified Stribeck curve over the data's fitting curve) from results/."""
 
-import json
 import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
-import numpy as np
-
-from lugre_jax.io import save_figure
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
-from _common import results_for_plot  # noqa: E402
+from _common import read_results, write_figure  # noqa: E402
 
 
 def main(argv=None) -> None:
-    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("identification.json",), argv)
-    c = np.genfromtxt(r / "curves.csv", delimiter=",", names=True)
-    av = np.genfromtxt(r / "averaged.csv", delimiter=",", names=True)
-    res = json.loads((r / "identification.json").read_text())
+    r, (res, c, av) = read_results(__doc__, Path(__file__).with_name("results"),
+                                   ("identification.json", "curves.csv", "averaged.csv"), argv)
     b = res["boundaries"]
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.4))
     for ax, xmax, logx in zip(axes, (1.55, 1.55), (False, True)):
@@ -38,8 +32,7 @@ def main(argv=None) -> None:
     axes[0].legend(fontsize=7)
     axes[0].set_title(f"Fig. 6 analogue: RMS {res['rms_nm']:.3g} N*m over {res['data']['n_set_points']} set-points", fontsize=10)
     axes[1].set_title("same, log velocity axis", fontsize=10)
-    save_figure(fig, r / "fig06_identified_curve.png")
-    print(r / "fig06_identified_curve.png")
+    write_figure(fig, r / "fig06_identified_curve.png")
 
 
 if __name__ == "__main__":

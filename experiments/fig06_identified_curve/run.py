@@ -4,7 +4,7 @@ the test data (shipped synthetic data).
     python experiments/fig06_identified_curve/run.py [--method gapso] [--seeds 4] [--no-refine]
 """
 
-import argparse
+import sys
 from pathlib import Path
 
 import jax
@@ -18,20 +18,15 @@ import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
 
-ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import identification_parser  # noqa: E402
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--data", default=str(ROOT / "data" / "stribeck_paper_like.csv"))
-    ap.add_argument("--method", default="gapso")
-    ap.add_argument("--seeds", type=int, default=4)
-    ap.add_argument("--no-refine", action="store_true")
-    ap.add_argument("--out", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
+    a = identification_parser(__doc__, __file__, "gapso", 4, refine=True).parse_args()
     out = Path(a.out)
     d = load_stribeck_csv(a.data)
-    r = identify_piecewise(d, a.method, key=jax.random.key(6), n_seeds=a.seeds, refine=not a.no_refine)
+    r = identify_piecewise(d, a.method, key=jax.random.key(6), n_seeds=a.seeds, refine=a.refine)
     print(r.table())
     write_json(out / "identification.json", r.to_json())
     g = np.geomspace(0.004, 1.5, 600)

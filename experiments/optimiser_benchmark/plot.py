@@ -7,25 +7,18 @@ Writes DIR/benchmark.png.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from lugre_jax.io import save_figure
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
-from _common import results_for_plot  # noqa: E402
-
-HERE = Path(__file__).resolve().parent
+from _common import read_results, write_figure  # noqa: E402
 
 
-def main(argv=None) -> int:
-    res = results_for_plot(__doc__, HERE / "results", ("benchmark.json",), argv)
-    path = res / "benchmark.json"
-    d = json.loads(path.read_text())
+def main(argv=None) -> None:
+    res, (d,) = read_results(__doc__, Path(__file__).resolve().with_name("results"), ("benchmark.json",), argv)
     labels = list(d["methods"])
     ms = [d["methods"][k] for k in labels]
     y = np.arange(len(labels))
@@ -48,11 +41,8 @@ def main(argv=None) -> int:
     for ax in axes:
         ax.grid(alpha=0.3, axis="x")
     fig.suptitle(f"Static whole-range Stribeck identification, {d['seeds']} seeds per method", fontsize=10)
-    out = res / "benchmark.png"
-    save_figure(fig, out)
-    print(f"wrote {out}")
-    return 0
+    write_figure(fig, res / "benchmark.png")
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main()

@@ -7,24 +7,17 @@ Writes DIR/pso_speed.png.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from lugre_jax.io import save_figure
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
-from _common import results_for_plot  # noqa: E402
-
-HERE = Path(__file__).resolve().parent
+from _common import read_results, write_figure  # noqa: E402
 
 
-def main(argv=None) -> int:
-    res = results_for_plot(__doc__, HERE / "results", ("pso_speed.json",), argv)
-    path = res / "pso_speed.json"
-    d = json.loads(path.read_text())
+def main(argv=None) -> None:
+    res, (d,) = read_results(__doc__, Path(__file__).resolve().with_name("results"), ("pso_speed.json",), argv)
     n = d["exps_per_pso_run"]
     vals = {
         "pyswarms (loop over seeds)": d["pyswarms"]["per_seed_ms"],
@@ -41,11 +34,8 @@ def main(argv=None) -> int:
         ax.text(v, i, f" {v:.2f}", va="center", fontsize=8)
     ax.set_title(f"speed-up {d['speedup_per_seed']:.1f}x ({d['speedup_per_seed_hash_rng']:.1f}x hash rng); "
                  f"{d['ours_over_floor']:.1f}x ({d['ours_hash_rng_over_floor']:.1f}x) the exp floor", fontsize=10)
-    out = res / "pso_speed.png"
-    save_figure(fig, out)
-    print(f"wrote {out}")
-    return 0
+    write_figure(fig, res / "pso_speed.png")
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main()

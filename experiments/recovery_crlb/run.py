@@ -9,7 +9,7 @@ errors. Reports, per parameter, the fraction of realisations with |estimate - tr
     python experiments/recovery_crlb/run.py [--n 100] [--method lm] [--seeds 16]
 """
 
-import argparse
+import sys
 from pathlib import Path
 
 import jax
@@ -23,18 +23,17 @@ import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import identification_parser  # noqa: E402
+
 TRUTH = np.array([0.9, 2.4, 0.05, 3.0])
 NAMES = ("Fc", "Fs", "vs", "sigma2")
 NOISE, REPEATS = 0.08, 30
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = identification_parser(__doc__, __file__, "lm", 16, data=False)
     ap.add_argument("--n", type=int, default=100)
-    ap.add_argument("--method", default="lm")
-    ap.add_argument("--seeds", type=int, default=16)
-    ap.add_argument("--refine", action="store_true")
-    ap.add_argument("--out", default=str(Path(__file__).with_name("results")))
     a = ap.parse_args()
     out = Path(a.out)
     v, _ = paper_like_velocities(0.09)

@@ -1,23 +1,17 @@
 """Plot whole vs piecewise residuals from experiments/whole_vs_piecewise/results/."""
 
-import json
 import sys
 from pathlib import Path
 
 import matplotlib.pyplot as plt
-import numpy as np
-
-from lugre_jax.io import save_figure
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
-from _common import results_for_plot  # noqa: E402
+from _common import read_results, write_figure  # noqa: E402
 
 
 def main(argv=None) -> None:
-    r = results_for_plot(__doc__, Path(__file__).with_name("results"), ("whole_vs_piecewise.json",), argv)
-    res = np.genfromtxt(r / "residuals.csv", delimiter=",", names=True)
-    cur = np.genfromtxt(r / "curves.csv", delimiter=",", names=True)
-    s = json.loads((r / "whole_vs_piecewise.json").read_text())
+    r, (s, res, cur) = read_results(__doc__, Path(__file__).with_name("results"),
+                                    ("whole_vs_piecewise.json", "residuals.csv", "curves.csv"), argv)
     fig, axes = plt.subplots(2, 3, figsize=(15, 7.5))
     spans = [(0.0, 1.55), (0.0, 0.15), (1.0, 1.45)]
     for j, (lo, hi) in enumerate(spans):
@@ -44,8 +38,7 @@ def main(argv=None) -> None:
     axes[0, 0].set_title(f"all: RMS whole {w['all']['rms_whole_nm']:.3f}, piecewise {w['all']['rms_piecewise_nm']:.3f} / {w['all']['rms_piecewise_paper_edges_nm']:.3f} N*m", fontsize=9)
     axes[0, 1].set_title(f"near 0.05 deg/s: RMS whole {w['near_0.05']['rms_whole_nm']:.3f}, piecewise {w['near_0.05']['rms_piecewise_nm']:.3f} / {w['near_0.05']['rms_piecewise_paper_edges_nm']:.3f}", fontsize=9)
     axes[0, 2].set_title(f"near 1.2 deg/s: RMS whole {w['near_1.2']['rms_whole_nm']:.3f}, piecewise {w['near_1.2']['rms_piecewise_nm']:.3f} / {w['near_1.2']['rms_piecewise_paper_edges_nm']:.3f}", fontsize=9)
-    save_figure(fig, r / "whole_vs_piecewise.png")
-    print(r / "whole_vs_piecewise.png")
+    write_figure(fig, r / "whole_vs_piecewise.png")
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ the critical Stribeck velocity (1.2 deg/s).
     python experiments/whole_vs_piecewise/run.py [--method lm] [--seeds 16]
 """
 
-import argparse
+import sys
 from pathlib import Path
 
 import jax
@@ -17,18 +17,14 @@ import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
 
-ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import identification_parser  # noqa: E402
+
 WINDOWS = {"near_0.05": (0.02, 0.08), "near_1.2": (1.05, 1.35), "all": (0.0, 2.0)}
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--data", default=str(ROOT / "data" / "stribeck_paper_like.csv"))
-    ap.add_argument("--method", default="lm")
-    ap.add_argument("--seeds", type=int, default=16)
-    ap.add_argument("--refine", action="store_true")
-    ap.add_argument("--out", default=str(Path(__file__).with_name("results")))
-    a = ap.parse_args()
+    a = identification_parser(__doc__, __file__, "lm", 16).parse_args()
     out = Path(a.out)
     d = load_stribeck_csv(a.data)
     acc = d.select(d.branch == "accel")
