@@ -14,7 +14,6 @@ Writes DIR/convergence.json (summary + per-seed metrics) and DIR/histories_<meth
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -24,7 +23,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "optimiser_benchmark"))
 
-from static_problem import NOISE_SD, Problem  # noqa: E402
+from static_problem import study_parser, study_problem  # noqa: E402
 
 from lugre_jax.identify import optimise  # noqa: E402
 from lugre_jax.io import write_csv, write_json  # noqa: E402
@@ -55,20 +54,10 @@ def stats(a: np.ndarray) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--seeds", type=int, default=200)
-    ap.add_argument("--data-seed", type=int, default=0)
-    ap.add_argument("--key", type=int, default=5)
-    ap.add_argument("--out", default=str(HERE / "results"))
-    a = ap.parse_args(argv)
-    if a.seeds < 1:
-        raise ValueError("--seeds must be >= 1")
+    a = study_parser(__doc__, 200, 5, HERE / "results").parse_args(argv)
     out = Path(a.out)
-    prob = Problem("segment1", seed=a.data_seed)
-    x_ref, j_ref = prob.reference()
-    summary = {"problem": {"kind": "segment1", "n_points": len(prob.v), "noise_sd": NOISE_SD, "truth": prob.truth,
-                           "reference_x": x_ref, "reference_J": j_ref, "data_seed": a.data_seed},
-               "seeds": a.seeds, "methods": {}}
+    prob, x_ref, j_ref = study_problem(a, "segment1")
+    summary = {"problem": prob.describe(x_ref, j_ref), "seeds": a.seeds, "methods": {}}
     for label, (method, settings) in METHODS.items():
         print(f"{label}: {a.seeds} seeds ...", flush=True)
         r = optimise(method, prob.loss_fn, prob.lower, prob.upper, key=jax.random.key(a.key), n_seeds=a.seeds,

@@ -13,7 +13,6 @@ parameter errors, per-seed final losses) and DIR/benchmark.md (the table).
 
 from __future__ import annotations
 
-import argparse
 import os
 import shlex
 import sys
@@ -26,7 +25,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from static_problem import NAMES, NOISE_SD, Problem  # noqa: E402
+from static_problem import NAMES, Problem, study_parser, study_problem  # noqa: E402
 
 from lugre_jax.identify import optimise, result_name  # noqa: E402
 from lugre_jax.io import atomic_path, write_json  # noqa: E402
@@ -66,23 +65,15 @@ def data_start(prob: Problem) -> np.ndarray:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--seeds", type=int, default=100)
-    ap.add_argument("--data-seed", type=int, default=0)
-    ap.add_argument("--key", type=int, default=7)
+    ap = study_parser(__doc__, 100, 7, HERE / "results")
     ap.add_argument("--only", nargs="*", help="substrings of method labels to run (default: all)")
-    ap.add_argument("--out", default=str(HERE / "results"))
     a = ap.parse_args(argv)
-    if a.seeds < 1:
-        raise ValueError("--seeds must be >= 1")
     out = Path(a.out)
-    prob = Problem("whole", seed=a.data_seed)
-    x_ref, j_ref = prob.reference()
+    prob, x_ref, j_ref = study_problem(a, "whole")
     truth = prob.truth
     ref_err = np.abs(x_ref - truth) / truth
-    report = {"problem": {"kind": "whole", "n_points": len(prob.v), "noise_sd": NOISE_SD, "truth": truth,
-                          "reference_x": x_ref, "reference_J": j_ref, "reference_rel_error": dict(zip(NAMES, ref_err)),
-                          "bounds": [prob.lower, prob.upper], "data_seed": a.data_seed},
+    report = {"problem": prob.describe(x_ref, j_ref, reference_rel_error=dict(zip(NAMES, ref_err)),
+                                       bounds=[prob.lower, prob.upper]),
               "seeds": a.seeds, "success_rule": "final J <= 1.01 * reference_J", "methods": {},
               # wall times depend on the machine's load: keep it beside them
               "command": shlex.join(["python", "experiments/optimiser_benchmark/run.py", *sys.argv[1:]]),

@@ -18,6 +18,9 @@ not ``exp(delta*log(...))``). ``tests/test_optimisers.py`` checks it against
 
 from __future__ import annotations
 
+import argparse
+from pathlib import Path
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -55,7 +58,7 @@ class Problem:
         else:
             raise ValueError(f"kind must be 'segment1' or 'whole', got {kind!r}")
         rng = np.random.default_rng(seed)
-        self.kind, self.truth = kind, TRUTH_SEGMENT1.copy()
+        self.kind, self.truth, self.seed = kind, TRUTH_SEGMENT1.copy(), seed
         self.v = v
         self.tau = np.asarray(stribeck(jnp.asarray(self.truth), jnp.asarray(v))) + noise_sd * rng.standard_normal(n)
         self.lower, self.upper = LOWER.copy(), UPPER.copy()
@@ -75,6 +78,12 @@ class Problem:
         J = 0.5 * np.sum(r * r, axis=1)
         return np.where(np.isfinite(J), J, np.inf)
 
+    def describe(self, x_ref, j_ref, **more) -> dict:
+        """The problem as the studies' results record it, with its reference optimum (``more``: further
+        entries, before the data seed)."""
+        return {"kind": self.kind, "n_points": len(self.v), "noise_sd": NOISE_SD, "truth": self.truth,
+                "reference_x": x_ref, "reference_J": j_ref, **more, "data_seed": self.seed}
+
     def reference(self):
         """Best known optimum: LM (optimistix, box-transformed) from the truth. Returns (x, J)."""
         from lugre_jax.identify import Refine
@@ -83,3 +92,23 @@ class Problem:
             jnp.asarray(self.truth)
         )
         return np.asarray(r.x), float(r.loss)
+
+
+def study_parser(doc: str, seeds: int, key: int, out: Path) -> argparse.ArgumentParser:
+    """The options of the optimiser studies on one problem: ``--seeds``, ``--data-seed`` (the noise
+    draw), ``--key`` (the optimisers' random key) and ``--out``. A script adds its own options."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seeds", type=int, default=seeds)
+    ap.add_argument("--data-seed", type=int, default=0)
+    ap.add_argument("--key", type=int, default=key)
+    ap.add_argument("--out", default=str(out))
+    return ap
+
+
+
+def study_problem(args: argparse.Namespace, kind: str) -> tuple[Problem, np.ndarray, float]:
+    """The problem ``kind`` drawn with ``args.data_seed`` and its reference optimum (x, J_ref)."""
+    if args.seeds < 1:
+        raise ValueError("--seeds must be >= 1")
+    prob = Problem(kind, seed=args.data_seed)
+    return (prob, *prob.reference())
