@@ -15,13 +15,14 @@ the load average is recorded before and after each row.
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "experiments"))  # the EMPS data check the experiments use
+from _common import emps_parser, emps_present  # noqa: E402
 
 
 def load():
@@ -32,18 +33,13 @@ def load():
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", default=str(HERE.parent / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"))
+    ap = emps_parser(__doc__)
     ap.add_argument("--out", default=str(HERE / "emps_fit.json"))
     ap.add_argument("--models", default="coulomb_viscous,asymmetric,asymmetric_position")
     ap.add_argument("--segments", default="1,4,16,64")
     a = ap.parse_args(argv)
-    if not Path(a.data).exists():
-        print(f"{a.data}: EMPS data not present; nothing to do")
+    if not emps_present(a):
         return 0
-    import lugre_jax
-
-    lugre_jax.configure()
     import jax
     import numpy as np
 

@@ -1,7 +1,7 @@
 """What the experiment folders share (an application of lugre_jax, not part of the library): the
 argument handling and results folder of every ``experiments/NAME/run.py`` and ``plot.py``, and the
 driver of the folders that run one scenario of :mod:`lugre_jax.reproduce` (Li et al., Electronics
-2020, 9, 284). Uses the public API only (``tests/test_public_api.py`` checks it).
+2020, 9, 284), and the EMPS data check that ``benchmarks/emps_fit.py`` uses too. Uses the public API only (``tests/test_public_api.py`` checks it).
 
 A script in ``experiments/NAME/`` imports it with::
 
@@ -71,6 +71,30 @@ def identification_parser(doc: str, script: str, method: str, seeds: int, refine
         ap.add_argument("--refine", action="store_true")
     ap.add_argument("--out", default=str(Path(script).with_name("results")))
     return ap
+
+
+#: The EMPS estimation run, in the shared data folder beside the checkout (not in the repository).
+EMPS_DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"
+
+
+def emps_parser(doc: str) -> argparse.ArgumentParser:
+    """The parser of a script on the EMPS data, with ``--data`` (default :data:`EMPS_DATA`)."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--data", default=str(EMPS_DATA))
+    return ap
+
+
+def emps_present(args: argparse.Namespace) -> bool:
+    """Whether ``args.data`` exists; False after one line saying there is nothing to do (the data are
+    not shipped, so a checkout without them runs the script as a no-op), else True with lugre_jax
+    configured (float64) for the fits."""
+    if not Path(args.data).exists():
+        print(f"{args.data}: EMPS data not present; nothing to do (see ../shared/data/README.md)")
+        return False
+    import lugre_jax
+
+    lugre_jax.configure()
+    return True
 
 
 def results_for_plot(doc: str, default: Path, needs: tuple[str, ...], argv=None) -> Path:

@@ -16,27 +16,22 @@ of the published model with the pulses as estimated, ignored and at unit gain.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import emps_parser, emps_present  # noqa: E402
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", default=str(ROOT / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"))
+    ap = emps_parser(__doc__)
     ap.add_argument("--out", default=str(HERE / "results"))
     ap.add_argument("--write-mat", default=None)
     a = ap.parse_args(argv)
-    if not Path(a.data).exists():
-        print(f"{a.data}: EMPS data not present; nothing to do (see ../shared/data/README.md)")
+    if not emps_present(a):
         return 0
-    import lugre_jax
-
-    lugre_jax.configure()
     import numpy as np
 
     from lugre_jax.emps import (AsymmetricLuGreRipple, EmpsCoulombViscous, PulseEntry, RunArrays, closed_loop_score,

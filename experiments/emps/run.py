@@ -11,14 +11,14 @@ series) are not kept in git; RESULT.json, table.md and the PNGs are.
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # experiments/, for the shared _common.py
+from _common import emps_parser, emps_present  # noqa: E402
 
 
 def _row(name, runs, r, cl_key=None, ft=""):
@@ -62,19 +62,14 @@ def table(report_json: dict) -> str:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", default=str(ROOT / ".." / "shared" / "data" / "emps" / "DATA_EMPS.mat"))
+    ap = emps_parser(__doc__)
     ap.add_argument("--validate", default=None)
     ap.add_argument("--out", default=str(HERE / "results"))
     ap.add_argument("--full", action="store_true", help="every model (lugre_jax.emps.MODELS), not the default set")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
-    if not Path(a.data).exists():
-        print(f"{a.data}: EMPS data not present; nothing to do (see ../shared/data/README.md)")
+    if not emps_present(a):
         return 0
-    import lugre_jax
-
-    lugre_jax.configure()
     from lugre_jax.emps import DEFAULT_MODELS, MODELS, identify_emps, read_emps_mat, write_emps_outputs
     from lugre_jax.io import atomic_path
 
