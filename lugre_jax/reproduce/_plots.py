@@ -71,25 +71,24 @@ def plot_fig08(res: dict, path: Path):
     save_figure(fig, path)
 
 
-def plot_fig09(res: dict, path: Path):
+def _sine_and_step(res: dict, path: Path, label: str, sine_title: str, step_title: str, band: bool = True):
+    """Figs. 9 and 10: the sine run of ``label`` (tracking, error) beside the 0.005 deg/s steps."""
     plt = _plt()
     fig, axs = plt.subplots(1, 3, figsize=(15, 4.2))
-    _sine_axes(axs[0], axs[1], res["traces"]["sine"]["PID"], "PID")
-    axs[0].set_title("Fig. 9a: PID sine tracking", fontsize=10)
-    _step_axes(axs[2], res["traces"]["step"], res["settings"]["v_deg_s"], "Fig. 9c: velocity PI, 0.005 deg/s")
+    _sine_axes(axs[0], axs[1], res["traces"]["sine"][label], label)
+    axs[0].set_title(sine_title, fontsize=10)
+    _step_axes(axs[2], res["traces"]["step"], res["settings"]["v_deg_s"], step_title, band=band)
     fig.tight_layout()
     save_figure(fig, path)
+
+
+def plot_fig09(res: dict, path: Path):
+    _sine_and_step(res, path, "PID", "Fig. 9a: PID sine tracking", "Fig. 9c: velocity PI, 0.005 deg/s")
 
 
 def plot_fig10(res: dict, path: Path):
-    plt = _plt()
-    fig, axs = plt.subplots(1, 3, figsize=(15, 4.2))
-    _sine_axes(axs[0], axs[1], res["traces"]["sine"]["GA-PSO piecewise"], "GA-PSO piecewise")
-    axs[0].set_title("Fig. 10a: compensated sine tracking", fontsize=10)
-    _step_axes(axs[2], res["traces"]["step"], res["settings"]["v_deg_s"], "Fig. 10c: compensated 0.005 deg/s step",
-               band=False)
-    fig.tight_layout()
-    save_figure(fig, path)
+    _sine_and_step(res, path, "GA-PSO piecewise", "Fig. 10a: compensated sine tracking",
+                   "Fig. 10c: compensated 0.005 deg/s step", band=False)
 
 
 def plot_fig12(res: dict, path: Path):

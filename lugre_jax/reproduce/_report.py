@@ -3,12 +3,14 @@ paper's claim beside our measured number and a verdict (REPORT.md and report.jso
 
 Rows are produced by small functions registered in :data:`ROWS` (``fn(results, setup) -> dict or
 None``); other parts of the project (e.g. static identification: Table 1, Figs. 3b-6) can append
-their own. A row function returns None when its scenario was not run.
+their own. A row function returns None when its scenario was not run (:func:`_of` wraps a row drawn
+from one scenario's result).
 """
 
 from __future__ import annotations
 
 import datetime
+import functools
 import platform
 from pathlib import Path
 
@@ -33,10 +35,20 @@ def _row(id_, claim, ours, verdict, why, data=None, figure=None):
     return dict(id=id_, paper_claim=claim, ours=ours, verdict=verdict, why=why, data=data or {}, figure=figure)
 
 
-def row_table2(R, S):
-    t = R.get("table2")
-    if t is None:
-        return None
+def _of(name: str):
+    """A row drawn from the result of ``name`` alone: the function takes (that result, setup) and the
+    registered row is None where ``name`` was not run."""
+    def wrap(fn):
+        @functools.wraps(fn)
+        def row(R, S):
+            r = R.get(name)
+            return None if r is None else fn(r, S)
+        return row
+    return wrap
+
+
+@_of("table2")
+def row_table2(t, S):
     p, r1, r2 = t["paper"], t["route1_paper_method"], t["route2_time_series"]
     Ji = t["J_implied_by_eq18"]
     ours = (f"eq. 17 step ({S.presliding['step_nm']:g} N*m, {ENC:g}-deg encoder): sigma0 = {_f(r1[1]['sigma0'], 4)} "
@@ -98,10 +110,8 @@ def row_table1(R, S):
                 "static-identification helpers' Table 1 experiment for standard errors.", dict(segments=segs, rms=rms))
 
 
-def row_fig08(R, S):
-    r = R.get("fig08")
-    if r is None:
-        return None
+@_of("fig08")
+def row_fig08(r, S):
     c = r["metrics"]["PID cascade (position + velocity)"]
     v = r["metrics"]["PID velocity loop only (Fig. 9c)"]
     ours = (f"cascade: dead zone {_f(c['dead_zone_s'])} s, creep amplitude {_f(c['creep_amplitude_deg'])} deg, "
@@ -124,10 +134,8 @@ def row_fig08(R, S):
                 ours, verdict, why, r["metrics"], "fig08.png")
 
 
-def row_fig09ab(R, S):
-    r = R.get("fig09")
-    if r is None:
-        return None
+@_of("fig09")
+def row_fig09ab(r, S):
     m = r["metrics"]["sine"]["PID"]
     at_rev = m["delay_after_reversal_s"] < 0.25  # a tenth of the 2.5 s period
     ours = (f"PID (cascade) RMS error {_f(m['rms_error_deg'])} deg, max {_f(m['max_error_deg'])} deg (amplitude 3 deg); "
@@ -142,10 +150,8 @@ def row_fig09ab(R, S):
                 m, "fig09.png")
 
 
-def row_fig09c(R, S):
-    r = R.get("fig09")
-    if r is None:
-        return None
+@_of("fig09")
+def row_fig09c(r, S):
     m = r["metrics"]["step"]["PID"]
     ours = (f"dead zone {_f(m['dead_zone_s'])} s (ki = {_f(S.ki, 4)} N*m/deg was chosen to give 2 s: this row is the "
             f"calibration, not a test); creep amplitude {_f(m['creep_amplitude_deg'])} deg")
@@ -168,10 +174,8 @@ def row_fig10ab(R, S):
                 dict(compensated=c, pid=q), "fig10.png")
 
 
-def row_fig10c(R, S):
-    r = R.get("fig10")
-    if r is None:
-        return None
+@_of("fig10")
+def row_fig10c(r, S):
     m = r["metrics"]["step"]
     dz = {k: v["dead_zone_s"] for k, v in m.items()}
     ours = "; ".join(f"{k}: {_f(v)} s" for k, v in dz.items())
@@ -187,10 +191,8 @@ def row_fig10c(R, S):
                 "(piecewise) under 1 s", ours, verdict, why, m, "fig10.png")
 
 
-def row_fig12(R, S):
-    r = R.get("fig12")
-    if r is None:
-        return None
+@_of("fig12")
+def row_fig12(r, S):
     m = r["metrics"]
     parts = []
     for k in ("GA-PSO whole", "GA-PSO piecewise", "PID (no compensation)"):
@@ -214,10 +216,8 @@ def row_fig12(R, S):
                 "piecewise none", "; ".join(parts), "reproduced" if better else "not reproduced", why, m, "fig12.png")
 
 
-def row_fig13(R, S):
-    r = R.get("fig13")
-    if r is None:
-        return None
+@_of("fig13")
+def row_fig13(r, S):
     m = r["metrics"]
     ours = "; ".join(f"{k}: dead zone {_f(v['dead_zone_s'])} s, creep {_f(v['creep_amplitude_deg'])} deg, in cone "
                      f"{v['cone_fraction']:.0%}, |v error| <= 0.001 in 2nd half {v['band_fraction_second_half']:.0%}, "
@@ -232,10 +232,8 @@ def row_fig13(R, S):
                 "spec: 0.005 deg/s within +-0.001 deg/s", ours, "partly" if mono else "not reproduced", why, m, "fig13.png")
 
 
-def row_fig14(R, S):
-    r = R.get("fig14")
-    if r is None:
-        return None
+@_of("fig14")
+def row_fig14(r, S):
     m = r["metrics"]
     g, p = m["GA whole"], m["GA-PSO piecewise"]
     ours = (f"GA whole: dead zone {_f(g['dead_zone_s'])} s, creep {_f(g['creep_amplitude_deg'])} deg; GA-PSO piecewise: "
@@ -246,10 +244,8 @@ def row_fig14(R, S):
                 "Same mechanism as Fig. 10c: residual friction at 0.005 deg/s. Simulated, not hardware.", m, "fig14.png")
 
 
-def row_fig15(R, S):
-    r = R.get("fig15")
-    if r is None:
-        return None
+@_of("fig15")
+def row_fig15(r, S):
     m = r["metrics"]
     ratio = m["GA-PSO piecewise"]["rms_error_deg"] / m["PID"]["rms_error_deg"]
     ours = (f"on a joint with +{(r['settings']['friction_drift'] - 1):.0%} friction drift: PID RMS {_f(m['PID']['rms_error_deg'])} deg, "
@@ -259,10 +255,8 @@ def row_fig15(R, S):
                 "No hardware: a drifted plant stands in for the experiment; the ranking survives a 10% model error.", m, "fig15.png")
 
 
-def row_beyond(R, S):
-    r = R.get("beyond")
-    if r is None:
-        return None
+@_of("beyond")
+def row_beyond(r, S):
     m = r["metrics"]
     ours = "; ".join(f"{k}: dead zone {_f(v['dead_zone_s'])} s, |v error| <= 0.001 deg/s {v['band_fraction']:.0%} of the "
                      f"time, within +-10% {v.get('rel_band10_fraction', float('nan')):.0%}" for k, v in m.items())
@@ -280,10 +274,8 @@ def row_beyond(R, S):
                 "(not in the paper: its spec is met only at 0.005 deg/s)", ours, verdict, why, m, "beyond.png")
 
 
-def row_design(R, S):
-    d = R.get("design")
-    if d is None:
-        return None
+@_of("design")
+def row_design(d, S):
     f = d["fit_on_best"]
     w = d["worst"]
     ours = (f"D-optimal torque sine: {d['best']['amplitude_nm']:g} N*m at {d['best']['frequency_hz']:g} Hz; fit there: "
@@ -300,10 +292,8 @@ def row_design(R, S):
                 "sqrt(sigma0/J)/(2 pi) = 4.7 Hz) determines both to a few percent.", d, "excitation_design.png")
 
 
-def row_seeds(R, S):
-    s = R.get("seeds")
-    if s is None:
-        return None
+@_of("seeds")
+def row_seeds(s, S):
     ours = "; ".join(f"{k}: dead zone over {len(v)} extra seeds = " + ", ".join(_f(x) for x in v) + " s" for k, v in s.items())
     good = {k: sum(abs(x) < 0.1 for x in v) for k, v in s.items()}
     why = ("; ".join(f"{k}: {good[k]} of {len(v)} seeds reach the GA-PSO-like optimum (dead zone < 0.1 s)" for k, v in s.items())
@@ -313,10 +303,8 @@ def row_seeds(R, S):
     return _row("Fig. 10c seeds (beyond)", "one identification per method", ours, "seed-dependent", why, s)
 
 
-def row_creep(R, S):
-    r = R.get("creep")
-    if r is None:
-        return None
+@_of("creep")
+def row_creep(r, S):
     m, st = r["metrics"], r["settings"]
     worst = max(m["grid"], key=lambda g: g["max_velocity_over_command"])
     ours = (f"{m['n_stick_slip']} of {m['n']} velocity-PI gain pairs (kp {st['kp']}, ki {st['ki']}) stick-slip at "
