@@ -26,7 +26,6 @@ ROOTS = ("experiments", "lugre_jax/reproduce", "lugre_jax/_cli")
 # Files that reach into private modules, each with its reason. strict: the test fails once a file is
 # clean, so the entry is removed with the fix.
 KNOWN = {
-    "experiments/diagnose_emps/run.py": "lugre_jax.diagnose._model, ._select, lugre_jax.io._emps, ._recording",
     # rhs_floor times the time loop's own right-hand side on its internal state layout, not API:
     "lugre_jax/_cli/_bench.py": "lugre_jax._simulation._system (rates, split)",
     # a probe that takes diagnose apart (each locate test, the model's parts) to explain a miss;

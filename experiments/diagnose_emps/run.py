@@ -3,7 +3,7 @@ error after modelling beside the benchmark's published IDIM-LS errors (4.08 % sy
 asymmetric friction).
 
 Data: ../shared/data/emps/DATA_EMPS.mat (Janot, Gautier, Brunot 2019), preprocessed exactly as the
-benchmark's IDIM script (lugre_jax.io._emps): filtfilt Butterworth(4, 100 Hz) on position, central
+benchmark's IDIM script (lugre_jax.io.load_emps): filtfilt Butterworth(4, 100 Hz) on position, central
 differences, first 49 samples dropped, decimation by 10 -> 2,480 samples at 100 Hz. UNITS ARE SI
 (m, m/s, N; mass in kg): the friction models are unit-agnostic.
 
@@ -26,12 +26,9 @@ from pathlib import Path
 import numpy as np
 
 import lugre_jax  # noqa: F401
-from lugre_jax.diagnose import _model as M
-from lugre_jax.diagnose import diagnose, effect_torques
-from lugre_jax.diagnose._select import _all_specs
-from lugre_jax.io import write_csv, write_json
+from lugre_jax.diagnose import diagnose, effect_torques, kinematics_of, model_params, predict, refit
 from lugre_jax.emps import idim_ls, read_emps_mat
-from lugre_jax.io._emps import EMPS_REFERENCE, default_emps_path, load_emps
+from lugre_jax.io import EMPS_REFERENCE, Recording, default_emps_path, load_emps, write_csv, write_json
 import lugre_jax as _lj  # noqa: E402
 
 _lj.configure()  # this script opts in to float64 and the XLA options
@@ -47,14 +44,6 @@ def rel(y, yhat, mask=None):
     if mask is not None:
         y, yhat = y[mask], yhat[mask]
     return float(100 * np.linalg.norm(y - yhat) / np.linalg.norm(y))
-
-
-def refit_all(model, rec, kin, fit_offset):
-    """Refit a model structure on all samples (the benchmark's protocol)."""
-    scales = M.data_scales(rec)
-    space = M.FitSpace(_all_specs(model, scales, fit_offset))
-    fitted, info = M.fit(M.clip_into(space, model), space, kin, rec.torque, np.ones(rec.n))
-    return fitted, info
 
 
 def sign_after_decimation(rec, asymmetric=False):
@@ -75,8 +64,6 @@ def decimation_phase_range(path):
     decimation phases."""
     from scipy import signal
 
-    from lugre_jax.io._recording import Recording
-
     r = load_emps(path, decimate=False)
     b, a = signal.cheby1(8, 0.05, 0.8 / 10)
     f = lambda x: signal.filtfilt(b, a, x)  # noqa: E731
@@ -94,7 +81,7 @@ def full_rate(path, out, block_s):
     """LuGre + offset diagnosis on the 1 kHz data: position effects whose temporal frequency v/P is
     near the decimated Nyquist rate (50 Hz) are resolved here."""
     rec = load_emps(path, decimate=False)
-    kin = M.kinematics_of(rec)
+    kin = kinematics_of(rec)
     rep = diagnose(rec, block_s=block_s, friction="lugre", fit_offset=True)
     write_json(out / "report_lugre_offset_1kHz.json", rep.to_json())
     arr = rep.arrays
@@ -102,8 +89,8 @@ def full_rate(path, out, block_s):
     row = {"verdict": rep.verdict, "named": rep.named,
            "missing_physics": [{"name": m.name, "params": m.params, "validation_rmse_nm": m.validation_rmse_nm}
                                for m in rep.missing_physics],
-           "baseline_rel_err_val_pct_1kHz": rel(y, M.predict(arr.baseline_model, kin), arr.val),
-           "improved_rel_err_val_pct_1kHz": rel(y, M.predict(arr.improved_model, kin), arr.val)}
+           "baseline_rel_err_val_pct_1kHz": rel(y, predict(arr.baseline_model, kin), arr.val),
+           "improved_rel_err_val_pct_1kHz": rel(y, predict(arr.improved_model, kin), arr.val)}
     write_json(out / "summary_1kHz.json", row)
     print(row)
     return 0
@@ -126,7 +113,7 @@ def main():
     if a.full_rate:
         return full_rate(path, out / "full_rate", a.block_s)
     rec = load_emps(path)
-    kin = M.kinematics_of(rec)
+    kin = kinematics_of(rec)
     y = rec.torque
     summary = {"units": rec.units, "n_samples": rec.n, "published": EMPS_REFERENCE,
                "relative_error_definition": "100*||y - y_hat||/||y|| on the decimated samples"}
@@ -147,18 +134,19 @@ def main():
         arr = rep.arrays
         val = arr.val
         base, imp = arr.baseline_model, arr.improved_model
-        yb, yi = M.predict(base, kin), M.predict(imp, kin)
-        base_all, _ = refit_all(base, rec, kin, cfg["fit_offset"])
-        imp_all, _ = refit_all(imp, rec, kin, cfg["fit_offset"])
+        yb, yi = predict(base, kin), predict(imp, kin)
+        # on all samples, as the benchmark fits
+        base_all, _ = refit(base, rec, fit_offset=cfg["fit_offset"], kin=kin)
+        imp_all, _ = refit(imp, rec, fit_offset=cfg["fit_offset"], kin=kin)
         row = {
             "baseline": name, "verdict": rep.verdict,
             "named": rep.named,
             "baseline_val_rmse_N": rep.baseline.validation_rmse_nm,
             "improved_val_rmse_N": rep.improved.validation_rmse_nm,
             "baseline_rel_err_val_pct": rel(y, yb, val), "improved_rel_err_val_pct": rel(y, yi, val),
-            "baseline_rel_err_fit_all_pct": rel(y, M.predict(base_all, kin)),
-            "improved_rel_err_fit_all_pct": rel(y, M.predict(imp_all, kin)),
-            "improved_params_fit_all": {**M.model_params(imp_all),
+            "baseline_rel_err_fit_all_pct": rel(y, predict(base_all, kin)),
+            "improved_rel_err_fit_all_pct": rel(y, predict(imp_all, kin)),
+            "improved_params_fit_all": {**model_params(imp_all),
                                         **{c.id: {k: float(v) for k, v in vars(c).items()
                                                   if not k.startswith("_")} for c in imp_all.candidates}},
         }
@@ -175,8 +163,8 @@ def main():
         print(f"{r['baseline']:20s} {r['verdict']:45s} rel err (fit all) {r['baseline_rel_err_fit_all_pct']:.2f}% -> "
               f"{r['improved_rel_err_fit_all_pct']:.2f}%, validation {r['baseline_rel_err_val_pct']:.2f}% -> "
               f"{r['improved_rel_err_val_pct']:.2f}%")
-    print(f"IDIM-LS reproduction: symmetric {sym['rel_err_pct']:.2f}% (published 4.08), "
-          f"asymmetric {asym['rel_err_pct']:.2f}% (published 3.11)")
+    print(f"IDIM-LS reproduction: symmetric {sym.rel_err_pct:.2f}% (published 4.08), "
+          f"asymmetric {asym.rel_err_pct:.2f}% (published 3.11)")
     return 0
 
 

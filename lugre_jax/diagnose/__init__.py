@@ -31,6 +31,7 @@ from ._physics import (
     ThermalDrift as ThermalDrift,
 )
 from ._plots import effect_torques as effect_torques, plot_report as plot_report
+from ._refit import predict as predict, refit as refit
 from ._report import (
     Baseline as Baseline,
     Diagnosis as Diagnosis,
