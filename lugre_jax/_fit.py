@@ -6,8 +6,9 @@ Problem: minimise ``1/2*|r(x)|^2`` over ``lower <= x <= upper`` for a residual f
 * Solver: ``optimistix.LevenbergMarquardt`` on unconstrained coordinates ``u`` with ``x = T(u)``
   (:class:`BoxTransform`: a sigmoid onto a finite box, a softplus onto a half-line, the identity on
   an unbounded component; :class:`LogTransform`: ``x = exp(u)`` for positive parameters whose scale
-  is unknown). Runs with ``throw=False``: a failure is a :class:`lugre_jax._results.RESULTS` item
-  (optimistix's codes, promoted), never a NaN.
+  is unknown; :class:`LogBoxTransform`: a sigmoid box, in log space where asked). Runs with
+  ``throw=False``: a failure is a :class:`lugre_jax._results.RESULTS` item (optimistix's codes,
+  promoted), never a NaN.
   :func:`least_squares` is jittable and vmappable. Two options for long simulations with flat
   valleys (the EMPS fits): ``ftol`` also stops when an accepted step lowers the loss by less than
   ``ftol`` of it (:class:`LossStop`, scipy's ``ftol`` test), and ``jac_scale`` scales ``u`` by the
@@ -15,8 +16,9 @@ Problem: minimise ``1/2*|r(x)|^2`` over ``lower <= x <= upper`` for a residual f
 * Covariance: Gauss-Newton, ``C = s^2*(J^T J)^-1`` with ``J = dr/dx`` (forward mode: few parameters,
   many residuals) and ``s^2`` the residual variance ``|r|^2/(n - p)`` (``absolute_sigma=True``:
   ``s^2 = 1``, the residuals already carry their known noise; ``variance_floor``: ``s^2`` never below
-  it). The information ``J^T J`` is inverted after scaling to unit diagonal, so parameters of very
-  different magnitude do not fake ill-conditioning; a direction the data do not inform (eigenvalue
+  it; ``variance_factor``: times the long-run variance factor of correlated residuals). The
+  information ``J^T J`` is inverted after scaling to unit diagonal, so parameters of very different
+  magnitude do not fake ill-conditioning; a direction the data do not inform (eigenvalue
   below 1e-12 of the largest) gives its parameters an infinite variance, never a small one. A
   parameter on its bound gets ``se = inf``: the constraint, not the data, holds it there, and the
   Gauss-Newton approximation does not apply (:func:`covariance`).
@@ -36,7 +38,7 @@ import numpy as np
 import optimistix as optx
 
 from ._results import RESULTS, promote, result_name  # noqa: F401  (result_name: re-exported)
-from ._types import Array, Float
+from ._types import Array, Bool, Float
 
 ResidualFn = Callable[[Float[Array, " p"]], Float[Array, " n"]]
 
@@ -104,6 +106,39 @@ class LogTransform(AbstractTransform):
 
     def from_box(self, x):
         return jnp.log(x)
+
+
+class LogBoxTransform(AbstractTransform):
+    """A finite box per component, in log space for the components flagged ``log``:
+    ``x = exp(y)`` there and ``x = y`` elsewhere, with ``y`` from the sigmoid of
+    :class:`BoxTransform` onto ``[log lower, log upper]`` (resp. ``[lower, upper]``), so a range
+    spanning decades gets relative steps. Built host-side from the bounds in parameter units."""
+
+    box: BoxTransform  # in log units for the ``log`` components
+    log: Bool[Array, " p"]
+
+    def __init__(self, lower, upper, log, edge: float = 1e-9):
+        log = np.asarray(log, bool)
+        lo, hi = np.asarray(lower, np.float64), np.asarray(upper, np.float64)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lo = np.where(log, np.log(np.maximum(lo, 1e-300)), lo)
+            hi = np.where(log, np.log(hi), hi)
+        self.box = BoxTransform(jnp.asarray(lo), jnp.asarray(hi), edge)
+        self.log = jnp.asarray(log)
+
+    def to_box(self, u):
+        y = self.box.to_box(u)
+        return jnp.where(self.log, jnp.exp(jnp.where(self.log, y, 0.0)), y)
+
+    def from_box(self, x):
+        return self.box.from_box(self._inner(x))
+
+    def _inner(self, x):
+        return jnp.where(self.log, jnp.log(jnp.maximum(x, 1e-300)), x)
+
+    def at_bounds(self, x, tol: float = AT_BOUND) -> np.ndarray:
+        """:func:`at_bounds` of ``x`` in the box's (log) units."""
+        return at_bounds(self._inner(jnp.asarray(x)), self.box.lower, self.box.upper, tol)
 
 
 class LossStop(optx.AbstractLeastSquaresSolver):
@@ -191,12 +226,12 @@ def information_inverse(info) -> tuple[np.ndarray, float]:
     return inv, cond
 
 
-def at_bounds(x, lower, upper) -> np.ndarray:
-    """Which components of ``x`` lie within ``AT_BOUND`` of their box's width from a finite bound
+def at_bounds(x, lower, upper, tol: float = AT_BOUND) -> np.ndarray:
+    """Which components of ``x`` lie within ``tol`` of their box's width from a finite bound
     (a half-line's width is taken as ``max(1, |x|)``)."""
     x, lo, hi = (np.asarray(a, dtype=np.float64) for a in (x, lower, upper))
     width = np.where(np.isfinite(hi - lo), hi - lo, np.maximum(1.0, np.abs(x)))
-    tol = AT_BOUND * np.maximum(width, 1e-300)
+    tol = tol * np.maximum(width, 1e-300)
     return (np.isfinite(lo) & (x - lo < tol)) | (np.isfinite(hi) & (hi - x < tol))
 
 
@@ -213,11 +248,13 @@ class Covariance:
 
 
 def covariance(jac, residual, *, absolute_sigma: bool = False, variance_floor: float = 0.0,
-               at_bound=None) -> Covariance:
+               variance_factor: float = 1.0, at_bound=None) -> Covariance:
     """The covariance ``s^2*(J^T J)^-1`` of an estimate from its Jacobian ``jac`` (n, p) and
     residuals (n,). ``absolute_sigma=False`` (default): ``s^2 = max(variance_floor, |r|^2/dof)``;
-    with ``absolute_sigma=True``: ``s^2 = 1``. ``at_bound`` (p bools, e.g. from :func:`at_bounds`):
-    those parameters' standard errors are ``inf``. No degrees of freedom left: standard errors NaN.
+    with ``absolute_sigma=True``: ``s^2 = 1``; either times ``variance_factor`` (the long-run
+    variance factor of serially correlated residuals, 1 for white ones). ``at_bound`` (p bools,
+    e.g. from :func:`at_bounds`): those parameters' standard errors are ``inf``. No degrees of
+    freedom left: standard errors NaN.
     """
     J = np.asarray(jac, dtype=np.float64)
     r = np.asarray(residual, dtype=np.float64)
@@ -227,6 +264,7 @@ def covariance(jac, residual, *, absolute_sigma: bool = False, variance_floor: f
     chi2_dof = float(np.sum(r**2) / dof) if dof > 0 else float("nan")
     if not absolute_sigma:
         cov = cov * (max(variance_floor, chi2_dof) if np.isfinite(chi2_dof) else np.nan)
+    cov = cov * variance_factor
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     if dof <= 0:
         se = np.full_like(se, np.nan)

@@ -1,12 +1,15 @@
 """The package's one bounded least-squares fit and covariance (lugre_jax._fit) against scipy."""
 
+import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 import pytest
 from scipy.optimize import curve_fit
 
-from lugre_jax._fit import BoxTransform, LogTransform, at_bounds, covariance, fit, least_squares, result_name
+from lugre_jax._fit import (BoxTransform, LogBoxTransform, LogTransform, at_bounds, covariance, fit, least_squares,
+                            result_name)
 
 T = np.linspace(0.0, 4.0, 40)
 TRUE = np.array([2.0, 1.3, 0.4])  # amplitude, rate, offset
@@ -81,3 +84,85 @@ def test_loss_stop_and_jacobian_scaling_reach_scipys_optimum_on_a_badly_scaled_f
     # standard errors do not depend on the parameters' units
     f = fit(residual, [1.0, 1.0, 0.0], [0.0, 0.0, -1.0], [10.0, 10.0, 1.0])
     np.testing.assert_allclose(tight.standard_errors * np.array([1e-3, 1e3, 1.0]), f.standard_errors, rtol=1e-5)
+
+
+def test_log_box_transform_round_trips_and_pulls_a_start_inside():
+    lo, hi, log = np.array([0.0, 1e-4, -2.0]), np.array([5.0, 10.0, 3.0]), np.array([False, True, False])
+    t = LogBoxTransform(lo, hi, log, edge=1e-6)
+    u = jnp.asarray(np.linspace(-8.0, 8.0, 9)[:, None] * np.ones(3))
+    x = np.asarray(jax.vmap(t.to_box)(u))
+    sig = 1.0 / (1.0 + np.exp(-np.asarray(u)))
+    np.testing.assert_allclose(x[:, [0, 2]], lo[[0, 2]] + (hi - lo)[[0, 2]] * sig[:, [0, 2]], rtol=1e-14)
+    np.testing.assert_allclose(x[:, 1], np.exp(np.log(1e-4) + np.log(1e5) * sig[:, 1]), rtol=1e-12)
+    np.testing.assert_allclose(jax.vmap(t.from_box)(jnp.asarray(x)), u, atol=1e-9)
+    # a start on a bound moves edge of the (log) box inside, and counts as saturated there
+    inside = np.asarray(t.to_box(t.from_box(jnp.asarray(lo))))
+    np.testing.assert_allclose((inside - lo)[[0, 2]], 1e-6 * (hi - lo)[[0, 2]], rtol=1e-6)
+    np.testing.assert_allclose(np.log(inside[1] / lo[1]), 1e-6 * np.log(1e5), rtol=1e-6)
+    np.testing.assert_array_equal(t.at_bounds(inside, 1e-4), [True] * 3)
+    np.testing.assert_array_equal(t.at_bounds(x[4], 1e-4), [False] * 3)
+
+
+def _stribeck_joint_problem():
+    """A short Stribeck joint recording with its truth, for diagnose's fit."""
+    from types import SimpleNamespace
+
+    from lugre_jax.diagnose import _model as M
+    from lugre_jax.friction import Stribeck
+
+    tt = np.linspace(0.0, 4.0, 400)
+    v = 2.0 * np.sin(2 * np.pi * 0.5 * tt) + 0.3
+    a = 2.0 * np.pi * np.cos(2 * np.pi * 0.5 * tt)
+    th = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(tt))])
+    true = M.JointModel(jnp.asarray(0.05), Stribeck(Fc=0.4, Fs=0.7, vs=0.3, sigma2=0.2), jnp.asarray(0.05))
+    kin = M.Kinematics(*(jnp.asarray(q) for q in (tt, th, v, a, np.diff(tt), np.diff(th))), jnp.asarray(0.0))
+    tau = M.predict(true, kin) + 0.01 * np.random.default_rng(0).standard_normal(tt.size)
+    rec = SimpleNamespace(time=tt, position=th, velocity=v, acceleration=a, torque=tau)
+    start = M.JointModel(jnp.asarray(0.03), Stribeck(Fc=0.3, Fs=0.5, vs=0.1, sigma2=0.1), jnp.asarray(0.0))
+    return M, rec, kin, tau, start
+
+
+def test_diagnose_fit_is_least_squares_on_the_joint_model():
+    """diagnose's fit and standard errors agree with a fit of the same joint model written out by hand
+    (same transform and tolerances), with scipy's bounded optimum, and a parameter the data cannot
+    separate from another (a second constant offset) gets no standard error."""
+    from scipy.optimize import least_squares as scipy_ls
+
+    from lugre_jax.diagnose._physics import Asymmetry
+
+    M, rec, kin, tau, start = _stribeck_joint_problem()
+    space = M.FitSpace(M.baseline_specs(start, M.data_scales(rec), fit_offset=True))
+    assert space.names == ["J", "Fc", "Fs", "vs", "sigma2", "offset"]
+    w = np.ones(tau.size)
+    fitted, info = M.fit(M.clip_into(space, start), space, kin, tau, w)
+    assert info["result"] == "successful" and info["steps"] > 0
+    got = np.array(list(space.as_dict(fitted).values()))
+
+    v, a = np.asarray(kin.v), np.asarray(kin.a)
+
+    def by_hand(p):
+        J, Fc, Fs, vs, s2, off = (p[i] for i in range(6))
+        pred = J * a + jnp.sign(v) * (Fc + (Fs - Fc) * jnp.exp(-((v / vs) ** 2))) + s2 * v + off
+        return (pred - tau) / np.std(tau)
+
+    lo, hi = np.array([s.lo for s in space.specs]), np.array([s.hi for s in space.specs])
+    transform = LogBoxTransform(lo, hi, [s.log for s in space.specs], edge=1e-6)
+    ref = fit(by_hand, space.values(M.clip_into(space, start)), lo, hi, transform=transform, rtol=1e-7, atol=1e-9)
+    assert ref.successful
+    np.testing.assert_allclose(got, ref.params, rtol=1e-6)
+    sp = scipy_ls(lambda p: np.asarray(by_hand(jnp.asarray(p))), ref.params, bounds=(lo, hi), xtol=1e-15,
+                  ftol=1e-15, gtol=1e-15)
+    np.testing.assert_allclose(got, sp.x, rtol=1e-5)
+    se = M.standard_errors(fitted, space, kin, tau, w)
+    np.testing.assert_allclose([se[n][1] for n in space.names], ref.standard_errors, rtol=1e-5)
+    # the long-run variance factor scales the variance
+    se4 = M.standard_errors(fitted, space, kin, tau, w, kappa=4.0)
+    np.testing.assert_allclose([se4[n][1] for n in space.names], 2 * ref.standard_errors, rtol=1e-5)
+
+    # Asymmetry's offset is a constant torque, as the baseline's offset is: only their sum is informed
+    joint = eqx.tree_at(lambda m: m.candidates, fitted, (Asymmetry(0.0, 0.0),))
+    scales = M.data_scales(rec)
+    both = M.FitSpace(space.specs + M.candidate_specs(joint, 0, scales))
+    se = M.standard_errors(M.clip_into(both, joint), both, kin, tau, w)
+    assert np.isinf(se["offset"][1]) and np.isinf(se["asymmetry.offset"][1])
+    assert np.isfinite(se["asymmetry.dsigma2"][1]) and np.isfinite(se["Fc"][1])

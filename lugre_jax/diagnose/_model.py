@@ -39,8 +39,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
+from .. import _fit
 from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck
 from .._results import RESULTS, promote, result_name
 from .._types import Array, Float
@@ -267,8 +267,15 @@ class Spec:
         return _get(model, self.path)
 
 
+# A start on (or within this share of) a bound is moved this far inside: LM has no gradient to
+# leave a saturated sigmoid.
+START_EDGE = 1e-6
+
+
 class FitSpace:
-    """Free parameters of a :class:`JointModel`, each mapped from an unbounded ``u`` by a sigmoid.
+    """Free parameters of a :class:`JointModel`, each mapped from an unbounded ``u`` by a sigmoid
+    onto its bounds (in log space for ``Spec.log``): ``bounds`` is that
+    :class:`~lugre_jax._fit.LogBoxTransform`.
 
     The paths are static (hashable, so compiled fits are reused across recordings of one shape);
     the bounds are data and travel as arrays.
@@ -278,31 +285,24 @@ class FitSpace:
         self.specs = list(specs)
         lo = np.array([s.lo for s in self.specs], float)
         hi = np.array([s.hi for s in self.specs], float)
-        lg = np.array([s.log for s in self.specs], bool)
         if np.any(lo >= hi):
             bad = [s.name for s in self.specs if not s.lo < s.hi]
             raise ValueError(f"empty bounds for {bad}")
-        self.lo = np.where(lg, np.log(np.maximum(lo, 1e-300)), lo)
-        self.hi = np.where(lg, np.log(hi), hi)
-        self.lg = lg
+        self.bounds = _fit.LogBoxTransform(lo, hi, [s.log for s in self.specs], edge=START_EDGE)
         self.paths = tuple(s.path for s in self.specs)
 
     @property
     def names(self):
         return [s.name for s in self.specs]
 
-    @property
-    def bounds(self):
-        return (jnp.asarray(self.lo), jnp.asarray(self.hi), jnp.asarray(self.lg))
+    def values(self, model: JointModel):
+        return jnp.asarray([float(s.where(model)) for s in self.specs])
 
     def to_model(self, template: JointModel, u) -> JointModel:
-        return _to_model(self.paths, self.bounds, template, u)
+        return _with_values(template, self.paths, self.bounds.to_box(u))
 
     def to_u(self, model: JointModel):
-        x = np.array([float(s.where(model)) for s in self.specs])
-        y = np.where(self.lg, np.log(np.maximum(x, 1e-300)), x)
-        p = np.clip((y - self.lo) / (self.hi - self.lo), 1e-6, 1 - 1e-6)
-        return jnp.asarray(np.log(p) - np.log1p(-p))
+        return self.bounds.from_box(self.values(model))
 
     def as_dict(self, model: JointModel) -> dict[str, float]:
         return {s.name: float(s.where(model)) for s in self.specs}
@@ -311,12 +311,6 @@ class FitSpace:
 def _with_values(template, paths, x):
     """``template`` with the leaves at ``paths`` set to the entries of ``x``."""
     return eqx.tree_at(lambda m: [_get(m, p) for p in paths], template, [x[i] for i in range(len(paths))])
-
-
-def _to_model(paths, bounds, template, u):
-    lo, hi, lg = bounds
-    y = lo + (hi - lo) * jax.nn.sigmoid(u)
-    return _with_values(template, paths, jnp.where(lg, jnp.exp(y), y))
 
 
 def baseline_specs(model: JointModel, scales: dict, fit_offset: bool) -> list[Spec]:
@@ -365,19 +359,22 @@ def clip_into(space: FitSpace, model: JointModel) -> JointModel:
 # Fitting
 
 
+def _residual(x, paths, template, kin, tau, w, scale):
+    """Weighted residual of the model with the parameters at ``paths`` set to ``x``."""
+    return w * (tau - _with_values(template, paths, x).predict(kin)) / scale
+
+
 def _residual_fn(u, args):
+    """:func:`_residual` in the fit's unbounded coordinates ``u``."""
     paths, bounds, template, kin, tau, w, scale = args
-    model = _to_model(paths, bounds, template, u)
-    return w * (tau - model.predict(kin)) / scale
+    return _residual(bounds.to_box(u), paths, template, kin, tau, w, scale)
 
 
 @eqx.filter_jit
-def _lm(u0, paths, bounds, template, kin, tau, w, scale, max_steps):
-    solver = optx.LevenbergMarquardt(rtol=1e-7, atol=1e-9)
-    sol = optx.least_squares(_residual_fn, solver, u0,
-                             args=(paths, bounds, template, kin, tau, w, scale),
-                             max_steps=max_steps, throw=False)
-    return sol.value, sol.result, sol.stats["num_steps"]
+def _lm(x0, paths, bounds, template, kin, tau, w, scale, max_steps):
+    x, sol = _fit.least_squares(lambda x: _residual(x, paths, template, kin, tau, w, scale), x0, bounds,
+                                rtol=1e-7, atol=1e-9, max_steps=max_steps)
+    return x, jnp.all(jnp.isfinite(sol.value)), sol.result, sol.stats["num_steps"]
 
 
 # Compiled functions see the kinematics padded to a multiple of BUCKET samples, so recordings of
@@ -451,7 +448,8 @@ def static_curve_basis(model: JointModel, specs: list[Spec], v) -> np.ndarray:
 
 
 def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_steps: int = 200):
-    """Levenberg-Marquardt (optimistix) on the weighted residual; returns (model, info).
+    """Levenberg-Marquardt (:func:`lugre_jax._fit.least_squares`) on the weighted residual; returns
+    (model, info).
 
     ``weights`` is 1 on training samples and 0 on held-out ones. A solver failure is reported in
     ``info['result']`` (never a silent NaN): the model returned is then the best finite one seen.
@@ -459,15 +457,11 @@ def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_s
     tau = jnp.asarray(tau)
     w = jnp.asarray(weights, dtype=tau.dtype)
     scale = jnp.asarray(float(np.std(np.asarray(tau)[np.asarray(weights) > 0])) or 1.0)
-    u0 = space.to_u(model)
-    u, result, steps = _lm(u0, space.paths, space.bounds, model, pad_kinematics(kin), pad(tau), pad(w), scale,
-                           max_steps)
-    fitted = space.to_model(model, u)
-    ok = bool(np.all(np.isfinite(np.asarray(u))))
-    if not ok:
-        fitted = model
-    name = result_name(promote(result)) if ok else result_name(RESULTS.nonfinite)
-    return fitted, {"result": name, "steps": int(steps)}
+    x, ok, result, steps = _lm(space.values(model), space.paths, space.bounds, model, pad_kinematics(kin), pad(tau),
+                               pad(w), scale, max_steps)
+    if not bool(ok):
+        return model, {"result": result_name(RESULTS.nonfinite), "steps": int(steps)}
+    return _with_values(model, space.paths, x), {"result": result_name(promote(result)), "steps": int(steps)}
 
 
 @eqx.filter_jit
@@ -475,34 +469,29 @@ def _jac_u(u, paths, bounds, template, kin, tau, w, scale):
     return jax.jacfwd(_residual_fn)(u, (paths, bounds, template, kin, tau, w, scale))
 
 
+# A parameter within this share of its box (in the fit's, log or linear, units) from a bound is
+# held there by the bound, not by the data: LM in sigmoid coordinates stops short of a bound.
+SATURATED = 1e-4
+
+
 def standard_errors(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights,
                     kappa: float = 1.0) -> dict[str, tuple[float, float]]:
     """Each free parameter's value and standard error from the weighted least-squares Jacobian
-    (Gauss-Newton covariance, noise variance from the residual times the long-run variance factor
-    ``kappa``): name -> (value, se). Parameters at a bound, or nearly collinear, get se = inf."""
+    (:func:`lugre_jax._fit.covariance` on the training samples, noise variance from the residual
+    times the long-run variance factor ``kappa``): name -> (value, se). Parameters at a bound, or
+    along a direction the data do not inform, get se = inf."""
     tau = jnp.asarray(tau)
     w = jnp.asarray(weights, dtype=tau.dtype)
     u = space.to_u(model)
     Jm = np.asarray(_jac_u(u, space.paths, space.bounds, model, pad_kinematics(kin), pad(tau), pad(w),
                            jnp.asarray(1.0)))[: tau.shape[0]]
     r = np.asarray(w) * (np.asarray(tau) - np.asarray(predict(model, kin)))
-    n = float(np.sum(np.asarray(weights) > 0))
-    s2 = float(np.sum(r ** 2)) / max(n - len(space.specs), 1.0) * kappa
-    try:
-        cov = np.linalg.pinv(Jm.T @ Jm) * s2
-        se_u = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    except np.linalg.LinAlgError:
-        se_u = np.full(len(space.specs), np.inf)
-    lo, hi, lg = (np.asarray(x) for x in space.bounds)
-    un = np.asarray(u)
-    sig = 1 / (1 + np.exp(-un))
-    x = lo + (hi - lo) * sig
-    ex = np.exp(np.where(lg, x, 0.0))  # exp only of the log-space parameters (no overflow elsewhere)
-    dxdu = (hi - lo) * sig * (1 - sig) * np.where(lg, ex, 1.0)
-    vals = np.where(lg, ex, x)
-    se = np.abs(dxdu) * se_u
-    # a parameter pinned at a bound (sigmoid saturated) is not determined by the data
-    se = np.where((sig < 1e-4) | (sig > 1 - 1e-4), np.inf, se)
+    train = np.asarray(weights) > 0
+    c = _fit.covariance(Jm[train], r[train], variance_factor=kappa)
+    # the covariance is in u; dx/du carries it to the parameters (the transform is elementwise)
+    vals, dxdu = (np.asarray(a) for a in jax.jvp(space.bounds.to_box, (u,), (jnp.ones_like(u),)))
+    with np.errstate(invalid="ignore"):
+        se = np.where(space.bounds.at_bounds(vals, SATURATED), np.inf, np.abs(dxdu) * c.standard_errors)
     return {s.name: (float(v), float(e)) for s, v, e in zip(space.specs, vals, se)}
 
 
