@@ -7,7 +7,8 @@ Groups are added greedily, as the candidates are: each step tests every group's 
 same simulated null as the candidates (:mod:`._calibrate`; the time line's frequency search
 repeated on every draw), family-wise by max-T at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
-held-out RMSE significantly (the same one-sided held-out test as the candidates') by a share
+held-out RMSE significantly (its held-out gain against the same gain on every null draw,
+:func:`held_out_gains`) by a share
 ``sqrt(before^2 - after^2)`` of at least RESOLUTION (0.15) of the per-sample noise floor, the
 resolution at which locate claims structure. The terms are linear in their coefficients, so the
 first-order gain is the exact least-squares gain.
@@ -78,12 +79,15 @@ TIME_LINE = TermGroup("time_periodic", ("sin(2*pi*f*t)", "cos(2*pi*f*t)"), ("1",
                       "periodic in time, not tied to the motion: an external disturbance")
 
 
-def _time_line_freqs(t, R, rows, min_periods: float = 3.0):
+def _time_line_freqs(t, R, rows, min_periods: float = 3.0, oversample: int = 4):
     """Strongest ordinate of each residual's periodogram between ``min_periods`` periods in the
-    recording and a quarter of the sample rate (rows: residuals, full length)."""
-    from ._locate import _power
-
-    f, P = _power(t, R)
+    recording and a quarter of the sample rate (rows: residuals, full length), on a grid
+    ``oversample`` times finer than the Fourier frequencies (a line between two of them is
+    otherwise placed up to half a bin off, and its sine fits the residual the worse)."""
+    R = np.atleast_2d(np.asarray(R, float))
+    m = oversample * R.shape[1]
+    X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), n=m, axis=1)
+    f, P = np.fft.rfftfreq(m, float(np.median(np.diff(t))))[1:], np.abs(X[:, 1:]) ** 2
     band = (f >= min_periods / float(t[-1] - t[0])) & (f <= 0.25 / float(np.median(np.diff(t))))
     if not band.any():
         return np.zeros(np.atleast_2d(R).shape[0])
@@ -92,6 +96,44 @@ def _time_line_freqs(t, R, rows, min_periods: float = 3.0):
 
 def _sincos(t, f):
     return np.column_stack([np.sin(2 * np.pi * f * t), np.cos(2 * np.pi * f * t)])
+
+
+def held_out_gains(base, X, E, rows, val) -> np.ndarray:
+    """The held-out statistic ``sum_val(r0^2 - r1^2)`` on every null draw (rows of ``E``, every
+    sample): ``r0`` the draw less its least-squares fit on the training ``rows`` by ``base``'s
+    columns (the current model's linearised refit and the terms already in), ``r1`` the same with
+    the term's columns ``X`` added. Its law under the null, for the recording's own noise colour,
+    kinematic errors and blocks, in place of a normal approximation with few validation blocks."""
+    Et = E[:, rows].T
+
+    def val_residual(D):
+        # the pseudo-inverse once, for every draw (lstsq's cutoff)
+        P = np.linalg.pinv(D[rows], rcond=max(D[rows].shape) * np.finfo(float).eps)
+        return E[:, val].T - D[val] @ (P @ Et)
+
+    r0, r1 = val_residual(base), val_residual(np.column_stack([base, X]))
+    return np.sum(r0 ** 2 - r1 ** 2, axis=0)
+
+
+def _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, line_freqs):
+    """The term ``X`` of group ``g`` fitted on the training ``rows`` with the model's linearised
+    refit and the terms already in, predicted on the held-out ``val``: (held-out RMSE, p against the
+    null draws ``E``, the analytic p, the prediction, the coefficients). ``line_freqs``: each draw's
+    own frequency, for the time line."""
+    base = np.column_stack([JB] + [Xc for _, Xc in chosen])
+    Xall = np.column_stack([base, X])
+    beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
+    pred = Xall @ beta
+    new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
+    p_analytic = C.held_out_p(r_fit, r - pred, blocks, val)
+    d_obs = float(np.sum(r_fit[val] ** 2 - (r - pred)[val] ** 2))
+    if g.name == TIME_LINE.name:
+        d_null = np.concatenate([held_out_gains(base, _sincos(t, f), E[b:b + 1], rows, val)
+                                 for b, f in enumerate(line_freqs)])
+    else:
+        d_null = held_out_gains(base, X, E, rows, val)
+    p_held = float((1.0 + np.sum(d_null >= d_obs)) / (d_null.size + 1.0))
+    return new, p_held, p_analytic, pred, beta
 
 
 @dataclasses.dataclass(frozen=True)
@@ -136,7 +178,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     _, F, tau_model = (np.asarray(x) for x in M._parts(model, kin))
     groups = [(g, X) for g, X in library(ctx, tau_model, window)
               if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
-    QB, Rn = C.null_residuals(model, specs, kin, rows, null, n_draws, seed, nuisance)
+    E = C.null_draws(model, kin, null, n_draws, seed)  # draws x n, every sample (held-out law below)
+    QB, Rn = C.null_residuals(model, specs, kin, rows, null, n_draws, seed, nuisance, draws=E)
     JB = C.jacobian(model, specs, kin, np.ones(r.size, bool))  # all rows, for held-out prediction
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(r.size, -1)])
@@ -177,31 +220,35 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         sig = np.flatnonzero(p_adj < alpha)
         if sig.size == 0:
             break
-        # as for the candidates: of the significant groups, the one explaining the most beyond its null
+        # as for the candidates: the significant groups in order of what they explain beyond their
+        # null, the first whose term holds up on the held-out blocks taken
         excess = obs_a - obs_a / np.maximum(z, 1e-300)
-        k = int(sig[np.argmax(excess[sig])])
-        g, X = cands[k]
-        # least squares on the training rows (with the model's own linearised refit), held-out prediction
-        Xall = np.column_stack([JB] + [Xc for _, Xc in chosen] + [X])
-        beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
-        pred = Xall @ beta
-        new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
-        p_held = C.held_out_p(r_fit, r - pred, blocks, val)
-        # the term's held-out share must reach the resolution locate claims structure at (RESOLUTION
-        # of the per-sample noise floor): below it a term fits what no test of the tool resolves
-        share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))
-        least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
-        if not (new < after and p_held < alpha and share >= least):
+        taken = None
+        for k in sig[np.argsort(-excess[sig])]:
+            g, X = cands[k]
+            held = _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, fb if line_X is not None else None)
+            new, p_held, p_analytic, pred, beta = held
+            # the term's held-out share must reach the resolution locate claims structure at
+            # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves
+            share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))
+            least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
+            if new < after and p_held < alpha and share >= least:
+                taken = int(k), g, X, new, p_held, p_analytic, pred, beta
+                break
             tests[-1].append({"rejected": g.name,
-                              "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g}, "
+                              "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g} "
+                                         f"(analytic {p_analytic:.3g}), "
                                          f"share {share:.3g} (resolution {least:.3g})"})
+        if taken is None:
             break
+        k, g, X, new, p_held, p_analytic, pred, beta = taken
         r_fit = r - pred
         chosen.append((g, X))
         nb = JB.shape[1]
         coef = beta[nb + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
                       "units": list(g.units), "reading": g.reading, "p_family": float(p_adj[k]),
-                      "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": float(p_held)})
+                      "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
+                      "p_held_out_analytic": float(p_analytic)})
         after = new
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))

@@ -139,17 +139,19 @@ def null_draws(model, kin, null: NullModel, n_draws: int, seed: int) -> np.ndarr
     return E + eiv[np.arange(n_draws) % eiv.shape[0]] if eiv.shape[0] else E
 
 
-def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None):
+def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None,
+                   draws=None):
     """The current model's Jacobian basis on the training rows (``QB``, with the ``nuisance``
     columns: shapes a correct model's residual keeps, e.g. the kinematics' systematic error) and
     ``n_draws`` null draws of its residual there, each with its projection on ``QB`` removed (what
-    a refit leaves): rows x draws."""
+    a refit leaves): rows x draws. ``draws``: :func:`null_draws`' output, when the caller has it."""
     n = kin.v.shape[0]
     JB = jacobian(current, base_specs, kin, rows)
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)[rows]])
     QB = _orth(JB)
-    Er = null_draws(current, kin, null, n_draws, seed)[:, rows].T
+    E = null_draws(current, kin, null, n_draws, seed) if draws is None else draws
+    Er = E[:, rows].T
     return QB, (Er - QB @ (QB.T @ Er) if QB.shape[1] else Er)
 
 
