@@ -102,6 +102,11 @@ TINY = T.Plant(J=0.02, Fc=0.3, Fs=0.45, vs=0.05, sigma2=0.5, sigma0=100.0, sigma
 SHARP = T.Plant(J=0.12, Fc=0.6, Fs=1.1, vs=0.04, sigma2=1.5, sigma0=180.0, sigma1=1.2)
 MASSIVE = T.Plant(J=0.6, Fc=2.5, Fs=3.2, vs=0.1, sigma2=1.0, sigma0=400.0, sigma1=3.0)
 DAMPED = T.Plant(J=0.05, Fc=0.4, Fs=0.55, vs=0.15, sigma2=2.5, sigma0=60.0, sigma1=4.0)
+# plants of the calib5 and outside2 studies only (no earlier study used them; all passive): a light
+# joint with a moderate dip, a heavy one with slow bristles, a small one with a deep dip
+BRISK = T.Plant(J=0.08, Fc=0.5, Fs=0.8, vs=0.06, sigma2=0.8, sigma0=150.0, sigma1=0.8)
+HEFTY = T.Plant(J=0.45, Fc=1.8, Fs=2.4, vs=0.12, sigma2=2.0, sigma0=120.0, sigma1=2.0)
+DAINTY = T.Plant(J=0.03, Fc=0.35, Fs=0.6, vs=0.07, sigma2=0.6, sigma0=90.0, sigma1=0.6)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -110,7 +115,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "stiff": (STIFF, T.VelocityPIController(kp=6.0, ki=36.0)), "soft": (SOFT, T.VelocityPIController(kp=18.0, ki=110.0)),
           "tiny": (TINY, T.VelocityPIController(kp=1.3, ki=8.0)),
           "sharp": (SHARP, T.VelocityPIController(kp=7.5, ki=45.0)), "massive": (MASSIVE, T.VelocityPIController(kp=37.0, ki=220.0)),
-          "damped": (DAMPED, T.VelocityPIController(kp=3.0, ki=18.0))}
+          "damped": (DAMPED, T.VelocityPIController(kp=3.0, ki=18.0)),
+          "brisk": (BRISK, T.VelocityPIController(kp=5.0, ki=30.0)),
+          "hefty": (HEFTY, T.VelocityPIController(kp=28.0, ki=165.0)),
+          "dainty": (DAINTY, T.VelocityPIController(kp=1.9, ki=11.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -121,7 +129,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "stiff": T.PositionPIDController.tuned(0.1, 3.0, tf=0.003), "soft": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
         "tiny": T.PositionPIDController.tuned(0.02, 3.5, tf=0.002),
         "sharp": T.PositionPIDController.tuned(0.12, 3.0, tf=0.003), "massive": T.PositionPIDController.tuned(0.6, 2.5, tf=0.005),
-        "damped": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002)}
+        "damped": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002),
+        "brisk": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003),
+        "hefty": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
+        "dainty": T.PositionPIDController.tuned(0.03, 3.5, tf=0.002)}
 
 
 def controller_of(job):
@@ -516,6 +527,34 @@ def calib4_settings(n: int = 40):
                             9500, n, loops=("pid", "pi"), nff=2, plant_k=2, fs_k=2, tn_rule=(1, 4))
 
 
+# calib5's excitations: the six kinds with parameters no earlier set used
+CALIB5_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.04, 0.15, 0.5, 2.0, 5.0), "dwell": 4.5 if i % 2 else 3.5,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.5 + 0.8 * (i % 3), "f0": 0.04, "f1": 1.5, "duration": 45.0,
+                             "bias": 0.5 + 0.5 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 1.0 * (i % 2), "f0": 0.06, "f1": 1.0 + 0.5 * (i % 3),
+                            "n": 8 + 4 * (i % 2), "duration": 45.0},
+    "position_sine": lambda i: {"amplitude": 3.0 + 3.0 * (i % 3), "frequency": 0.1 + 0.1 * (i % 2),
+                                "duration": 36.0},
+    "point_to_point": lambda i: {"amplitudes": (3.0, -2.0, 4.0, -1.5, 2.0) if i % 2 else (-3.5, 2.5, -0.5, 4.0, -2.0, 1.0),
+                                 "move_time": 1.0 + 0.8 * (i % 2), "dwell": 2.0, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.035, 0.2, 0.8, 2.5, 5.0), "dwell": 2.6, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib5_settings(n: int = 40):
+    """A fifth effect-free set (issues #30 and #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    no earlier set used (BRISK, HEFTY, DAINTY), 160-750 Hz, torque noise 0.045-0.09 N*m, white in
+    half the rows and AR(1) of coefficient 0.5 or 0.7 in the other half, velocity noise 0.003-0.005
+    deg/s, quantisation 0.0008-0.0015 deg; seeds 9800 + i."""
+    return _effect_free_set("calib5", CALIB5_EXCITATIONS, ["brisk", "hefty", "dainty"],
+                            [(True, True), (True, False), (False, True)], [160.0, 240.0, 380.0, 520.0, 750.0],
+                            [0.06, 0.045, 0.09], [0.0, 0.5, 0.0, 0.7], [0.003, 0.005], [0.0008, 0.0015],
+                            9800, n, loops=("pi", "pid"), nff=1, plant_k=2, fs_k=1, tn_rule=(2, 3))
+
+
 # fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F6_FS = {"a": 320.0, "b": 360.0, "c": 260.0, "d": 600.0, "e": 420.0, "f": 200.0, "g": 380.0, "h": 300.0, "i": 240.0}
@@ -585,6 +624,49 @@ OUTSIDE_ROWS = [
     ("v", "time_disturbance", {"amplitude": 0.06, "frequency": 0.08, "phase": 0.4}, "time"),
     ("w", "time_disturbance", {"amplitude": 0.045, "frequency": 0.25, "phase": -1.3}, "time"),
 ]
+
+
+# outside2: the outside study's four effects again, on the calib5 plants and the calib4 ones, at
+# other excitations, rates, loops and seeds, each at the concealed level
+_OUT2_RECIPES = {
+    "a": ("brisk", "pi", "multisine", {"amplitude": 2.5, "f0": 0.05, "f1": 2.0, "n": 9, "duration": 50.0},
+          600.0, 0.06, 0.0, 0.003, 0.0008, True, True),
+    "b": ("hefty", "pid", "point_to_point", {"amplitudes": (3.5, -2.5, 5.0, -1.0, -4.0, 1.5), "move_time": 1.4,
+                                            "dwell": 2.5, "repeats": 2}, 450.0, 0.09, 0.0, 0.004, 0.0008, True, True),
+    "c": ("dainty", "pi", "staircase", {"speeds": (0.03, 0.12, 0.6, 2.5, 6.0, 10.0), "dwell": 4.0,
+                                       "transition": 0.5, "repeats": 1}, 300.0, 0.05, 0.0, 0.003, 0.001, True, True),
+    "d": ("sharp", "pid", "sine_sweep", {"amplitude": 3.5, "f0": 0.05, "f1": 1.6, "duration": 55.0, "bias": 0.6},
+          400.0, 0.06, 0.5, 0.0, 0.0008, True, False),
+    "e": ("massive", "pi", "multisine", {"amplitude": 2.0, "f0": 0.04, "f1": 1.8, "n": 8, "duration": 50.0},
+          550.0, 0.09, 0.0, 0.004, 0.0, False, True),
+    "f": ("brisk", "pid", "point_to_point", {"amplitudes": (-3.0, 4.0, -5.0, 1.0, 5.5, -2.0), "move_time": 1.1,
+                                            "dwell": 3.0, "repeats": 2}, 350.0, 0.06, 0.0, 0.0, 0.0008, True, False),
+    "g": ("hefty", "pid_nff", "point_to_point", {"amplitudes": (4.5, -4.0, 1.5, -3.5, 3.0, 0.5), "move_time": 1.8,
+                                                "dwell": 3.0, "repeats": 2}, 280.0, 0.09, 0.0, 0.004, 0.0008, True, True),
+    "h": ("damped", "pi", "staircase", {"speeds": (0.025, 0.1, 0.4, 1.5, 4.5), "dwell": 5.0, "transition": 0.5,
+                                       "repeats": 1}, 180.0, 0.05, 0.4, 0.003, 0.0008, True, True),
+}
+OUTSIDE2_ROWS = [
+    ("a", "actuator_lag", {"T": 0.002}, "torque_rate"),
+    ("b", "actuator_lag", {"T": 0.001}, "torque_rate"),
+    ("c", "quadratic_drag", {"c": 0.0004}, "v|v|"),
+    ("d", "quadratic_drag", {"c": 0.0025}, "v|v|"),
+    ("e", "torque_dependent_friction", {"mu": 0.012, "rotor_share": 0.5, "v_eps": 0.02}, "transmitted torque"),
+    ("f", "torque_dependent_friction", {"mu": 0.0034, "rotor_share": 0.4, "v_eps": 0.02}, "transmitted torque"),
+    ("g", "time_disturbance", {"amplitude": 0.07, "frequency": 0.15, "phase": 1.1}, "time"),
+    ("h", "time_disturbance", {"amplitude": 0.04, "frequency": 0.4, "phase": -0.6}, "time"),
+]
+
+
+def outside2_settings():
+    """A second outside set (issue #31), fixed and committed before its first run: the four effects
+    outside the candidates, two recordings each, on plants, excitations, rates, loops and seeds
+    (5300 + k) the outside study did not use, each at the concealed level."""
+    out = []
+    for k, (r, eid, kw, dep) in enumerate(OUTSIDE2_ROWS):
+        job = _recipe_job(f"outside2_{k:02d}_{eid}_{r}", r, 5300 + k, [(eid, kw)], "unexplained", _OUT2_RECIPES)
+        out.append(job | {"expected_dependence": dep})
+    return out
 
 
 def outside_settings():
@@ -688,6 +770,10 @@ def jobs(study: str, seeds, strengths):
         return calib4_settings()
     if study == "fresh6":
         return fresh6_settings()
+    if study == "calib5":
+        return calib5_settings()
+    if study == "outside2":
+        return outside2_settings()
     if study == "null":
         return null_settings()
     if study == "heldout":
@@ -841,7 +927,8 @@ def run_one(job, top_k, cache=None):
     return row
 
 
-NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6")
+NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
+               "outside2")
 
 
 def main():
