@@ -3,8 +3,7 @@
 XLA:CPU fuses a cheap elementwise value into every kernel that reads it and recomputes it there.
 It never duplicates an op it rates expensive (a division, an exponential), so dividing a value by a
 runtime 1.0 makes XLA compute it once and store it. The division is exact, so results change only
-by rounding (XLA contracts fused and stored expressions into multiply-adds differently: ~1e-13
-relative, tested).
+by rounding (XLA contracts fused and stored expressions into multiply-adds differently; tested).
 
 * :func:`stored_once` divides a value *and* its derivative: used on the stage inputs of an explicit
   Runge-Kutta step, which every later stage reads (see ``_simulation._fixed.rk_step``).
@@ -13,8 +12,8 @@ relative, tested).
   cotangent, so a cotangent that many kernels of the backward pass read is computed once. Sites
   (chosen by a greedy search over the compiled backward step): the joint's net torque and dz/dt
   per stage, LuGre's g(v), samples interpolated between steps. It shrinks the compiled backward
-  step by about a third (``tests/test_simulate.py`` checks the op counts); forward mode pays one
-  division per tangent per site. Effects on run time: docs/performance.md, "Fusion barriers".
+  step (``tests/test_simulate.py`` checks the op counts); forward mode pays one division per
+  tangent per site. Effects on run time: docs/performance.md, "Fusion barriers".
 
 A value or tangent that is NaN stays NaN: the runtime 1.0 is NaN exactly where its lane has already
 failed, which is also what keeps XLA from folding it to a constant. It must be a per-lane value: a
@@ -38,8 +37,8 @@ def stored_once(y: tuple, one) -> tuple:
 
     A stage input of an explicit RK step feeds its own right-hand side and every later stage; fused,
     the later stages recomputed the earlier ones. ``lax.optimization_barrier`` does not prevent this
-    on CPU (XLA removes it before fusion). The compiled step holds about a third fewer arithmetic
-    ops with it (docs/performance.md, "Fusion barriers").
+    on CPU (XLA removes it before fusion). The compiled step holds fewer arithmetic ops with it
+    (docs/performance.md, "Fusion barriers").
     """
     return tuple(c / one for c in y)
 

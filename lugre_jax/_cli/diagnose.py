@@ -10,7 +10,7 @@ from ._outputs import FOLDER, check_outputs
 
 # a diagnosis holds ~30 float64 arrays of the recording's length per null draw batch and refits
 # a model of ~10 parameters many times: beyond this many samples it is refused up front with the
-# cost and how to split it (docs/performance.md has the measured time per sample)
+# cost and how to split it (the cost by length: docs/performance.md, Diagnosis)
 MAX_SAMPLES = 200_000
 
 

@@ -46,8 +46,8 @@ def _third_difference_std(x, k: int, jumps=None) -> float:
             d = d[ok]
     # and those far out at this lag: a fast but resolved change of the signal (the friction torque
     # through a reversal, ~2*Fc within the pre-sliding distance) is no jump at lag 1 but spans a
-    # share of the long lags that grows with k, as a colour's rise does (measured: white noise on
-    # a position-sine tracking recording was claimed coloured, its floor 32 % high)
+    # share of the long lags that grows with k, as a colour's rise does: left in, it makes white
+    # noise look coloured and the floor too high
     for _ in range(3):
         s = _mad_std(d)
         ok = np.abs(d - np.median(d)) <= OUTLIER_STD * s
@@ -198,12 +198,12 @@ def _gain(W, deriv, dt, order=3):
 
 
 # Savitzky-Golay polynomial orders the window choice considers: order 5 has less bias at the same
-# noise near the excitation's top frequency (a multisine's top line, attenuated ~20 % by an order-3
-# window, was left in the residual; docs/diagnosis.md)
+# noise near the excitation's top frequency (an order-3 window attenuates a multisine's top line and
+# leaves the rest of it in the residual)
 ORDERS = (3, 5)
 # ...but its derivative passes a band of noise just below its cut-off, which the time periodogram
 # sees as a line; an order-5 window is considered only where the acceleration noise it brings
-# (J0 times its noise) is below this share of the torque noise (measurements: docs/diagnosis.md)
+# (J0 times its noise) is below this share of the torque noise
 ORDER5_NOISE_SHARE = 0.5
 
 # A sample's kinematics count as resolved when the smoothing bias bound there is below this share of
@@ -247,8 +247,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     profile = noise_profile(rec.torque)
     st, st_phi = torque_noise_std(rec.torque, profile=profile)
     # only where colour was claimed: a white estimate is read at lag 1, where the signal is absent,
-    # and the longest lags of a white recording hold the signal (measured: 14 of the 36 white null
-    # recordings and every issue recording would be flagged)
+    # and the longest lags of a white recording hold the signal, so the flag would fire on white
+    # noise too
     st_open = st_phi > 0 and noise_estimate_open(rec.torque, st, profile)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
@@ -280,14 +280,14 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
             # smoothing bias grows with the window (as W^(order+1) for a smooth signal, slower at
             # sharp steps and near the filter's cut-off): the bias at W is taken as a third of the
             # change from W to 2W-1, that change less its own noise (for either order: near the
-            # cut-off, where the choice is made, the change is 1.5-7 times the bias, measured on
-            # noise-free study recordings; asymptotically 15 or 63 times)
+            # cut-off, where the choice is made, the change is a few times the bias, far below the
+            # asymptotic 15 or 63 times)
             smooth = ~(maximum_filter1d(sharp.astype(np.int8), W2) > 0) if sharp.any() else slice(None)
             diff2 = max(float(np.mean((aW - a2)[smooth] ** 2)) - sig ** 2 * float(np.sum(hd ** 2)), 0.0)
             bias2 = diff2 / 9.0
             sig_v = sig * _gain(W, dv, dt, order)
             # bias counts four times: unlike noise it is structured, and the residual tests see it
-            # (see docs/diagnosis.md: a window with twice the bias left a located after-reversal mean)
+            # (a located mean after reversals, for one)
             mse = J0 ** 2 * (4 * bias2 + noise2) + s2_0 ** 2 * sig_v ** 2
             if best is None or mse < best[0]:
                 best = (mse, source, W, order, sig_v, np.sqrt(noise2), a2, sig * float(np.linalg.norm(hd)))
@@ -442,7 +442,7 @@ def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:
     within a sample or two): there no estimate of the acceleration from samples exists, and the
     inverse model's J*a is wrong by the unresolved impulse. Flagged where the velocity departs from
     its 5-sample cubic fit by more than 4 noise std (and 0.3 % of its range), widened by ``pad``
-    samples (what it removes on a sharp staircase: docs/diagnosis.md)."""
+    samples."""
     from scipy.ndimage import maximum_filter1d
 
     v = np.asarray(velocity, float)

@@ -187,8 +187,7 @@ def binned_tests(rec, r, blocks, scales, known=None) -> list[dict]:
 
     # a region's mean must also exceed a resolution margin, a fraction of the per-sample noise:
     # the inverse model's own errors in variables at the slowest speeds leave means of that order
-    # (measured: -0.0075 N*m at 0.01 deg/s on issue #20's recording with the TRUE parameters,
-    # 9 % of its 0.08 N*m noise), which is not missing physics
+    # even with the true parameters, which is not missing physics
     noise = float(scales.get("noise", 0.0))
     floor = noise * RESOLUTION
     margin = _extra_array(known, "conditioning_bias_nm", r) + floor
@@ -377,7 +376,7 @@ def time_periodogram(t, r, half_window: int = 200):
     The background is itself estimated, so the ratio of an ordinate to it is F-like: the
     single-ordinate p-value is (1 + R/nu)^-nu rather than exp(-R), with nu = BACKGROUND_DOF times
     the neighbours used (the median of N exponential ordinates is worth fewer degrees of freedom
-    than their mean; the share is calibrated on white noise, see docs/diagnosis.md)."""
+    than their mean; tests/test_locate_background.py checks the level on white noise)."""
     f, I, R, logp = _time_lines(t, r, half_window)
     I, R, logp = I[0], R[0], logp[0]
     i = int(np.argmin(logp))
@@ -506,8 +505,8 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
 
     ``margin``: the share of the residual variance that past lags may predict before it counts
     (autocorrelations below ``sqrt(margin/m)`` per lag are discounted): a baseline at its noise floor
-    on a long recording leaves weak colour from the conditioning (measured: a 0.005-deg encoder,
-    ratio 1.004, Ljung-Box p 1e-4) that is not missing physics."""
+    on a long recording leaves weak colour from the conditioning (a quantised encoder's, for one),
+    significant at that length but not missing physics."""
     Q = float(ljung_box_many(r, m, min_lag, margin)[0])
     return {"statistic": Q, "df": m, "p_value": float(stats.chi2.sf(Q, m))}
 
@@ -600,9 +599,9 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
         x = np.asarray(x, float)
         x = np.where(keep, x, np.mean(x[keep]) if keep.any() else 0.0)
         # the velocity and its sign carry the baseline's static curve (viscous and Coulomb parts):
-        # what it leaves along them below the binned means' margin is not claimed either
-        # (measured: a position-only sine sweep at its floor, ratio 1.003, whose residual correlated
-        # -0.035 with sign(v) 0.32 s later, 3 % of the noise, z 5.6: located without the margin)
+        # what it leaves along them below the binned means' margin is not claimed either (a
+        # baseline at its floor leaves small correlations there that a long recording makes
+        # significant)
         mg = RESOLUTION * float(scales.get("noise", 0.0)) if name in ("velocity", "sign_velocity") else 0.0
         xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r_x, x, max_lag, L, ml, mg)
         if xc is not None:
@@ -622,8 +621,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     # torque (sign(v) without one). A square wave with the excitation's direction changes, its mean
     # over any time window is ~0, so neither the time windows nor the velocity bands (which average
     # over time) see it. F rather than sign(v): the drift scales the whole friction, so the fast
-    # samples, whose viscous part is large, carry most of it (measured on a 2.5-s sharp staircase to
-    # 5 deg/s with a -8 % drift, docs/diagnosis.md: t 3.0 with sign(v), 9.6 with F, same margin)
+    # samples, whose viscous part is large, carry most of it, and only F weighs them so
     # margin: as for the binned means, a change of the direction-signed mean residual from the
     # first half of the recording to the second (slope * mean|F| * duration / 2) below RESOLUTION
     # of the per-sample noise is not claimed

@@ -62,8 +62,7 @@ def kinematics_of(rec) -> Kinematics:
     """Kinematics of a recording. The bristle state is driven by the POSITION increments, not by the
     integral of the velocity: LuGre's z is a function of the path (dz/dtheta = 1 - sigma0*sign(v)*z/g),
     so integrating it along the measured position keeps z exact to the encoder's resolution, while
-    integrating a noisy velocity makes z a random walk (the effect on issue #20's recording:
-    docs/diagnosis.md)."""
+    integrating a noisy velocity makes z a random walk."""
     v = np.asarray(rec.velocity)
     V = float(np.percentile(np.abs(v), 99)) or 1.0
     s0 = float(np.sign(v[0])) if abs(v[0]) > 0.02 * V else 0.0
@@ -203,8 +202,8 @@ def lugre_torque(f: LuGre, v: Float[Array, " n"], h: Float[Array, " n-1"], z0=No
     e = jnp.exp(-x)
     c = dpath * jnp.where(x > 1e-8, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
     # z_{k+1} = e_k*z_k + c_k: affine in z with coefficients set by the measured velocity alone.
-    # (jax.lax.associative_scan would make it log-depth, but compiles ~10x slower under the LM's
-    # forward-mode Jacobian; a sequential scan is the better trade for one-shot diagnoses.)
+    # (jax.lax.associative_scan would make it log-depth, but compiles much slower under the LM's
+    # forward-mode Jacobian; a one-shot diagnosis pays every compilation, so a sequential scan.)
     _, zs = jax.lax.scan(lambda z, ec: (ec[0] * z + ec[1],) * 2, z0, (e, c))
     z = jnp.concatenate([jnp.reshape(z0, (1,)), zs])
     dz = v - f.sigma0 * jnp.abs(v) * z / g

@@ -51,8 +51,8 @@ class PositionRipple(AbstractCandidate):
     def _single_speed(self, ctx):
         """A torque that repeats with position is there at every speed: a fit whose gain on the
         residual lives in one speed quartile is the baseline's misfit of that regime, not a ripple
-        (measured: a 0.078-deg 'ripple' that took the slowest plateau's stick-slip and lost in every
-        faster band, held-out recording held_effect00)."""
+        (a short-period 'ripple' can take the slowest plateau's stick-slip and lose in every faster
+        band)."""
         kin, r = ctx.kin, ctx.residual
         if kin is None or r is None:
             return None
@@ -94,8 +94,8 @@ class PositionRipple(AbstractCandidate):
                 "units": {"amplitude": ctx.units["torque"], "period": ctx.units["position"]}}
 
 
-# a gravity must vary over the recording's positions by at least this share of its mean torque
-# (measured: true loads 0.16-0.55 on the study recordings; an offset fitted as gravity 0.018)
+# a gravity must vary over the recording's positions by at least this share of its mean torque:
+# an offset fitted as a gravity varies far less, a load far more
 GRAVITY_MIN_VARIATION = 0.05
 
 
@@ -268,7 +268,7 @@ def engaged_fraction(theta, width):
     frac = jnp.where(small, 1.0, jnp.clip(dl / jnp.where(small, 1.0, dm), 0.0, 1.0))
     # centred on the sample (mean of the intervals before and after it): assigning each interval to
     # its end sample delays the modelled dip by half a sample, which a fit then pays for with a
-    # wider gap (measured: +32 % width at 100 Hz)
+    # wider gap
     mid = 0.5 * (frac[:-1] + frac[1:])
     return jnp.concatenate([frac[:1], mid, frac[-1:]])
 
@@ -298,8 +298,9 @@ class Backlash(AbstractCandidate):
         return terms
 
     def extra_torque(self, kin, terms, F, inertial):
-        # Split friction: (1 - share)*F on the motor side, as before; the load side moves only when
-        # engaged (velocity frac*v, so its bristles hold their state in the gap) and is felt only then.
+        # Split friction: (1 - share)*F on the motor side, as without backlash; the load side moves
+        # only when engaged (velocity frac*v, so its bristles hold their state in the gap) and is felt
+        # only then.
         frac = engaged_fraction(kin.theta, self.width)
         # the load side's bristles follow the load's path: the motor's path through the play operator
         dpath_load = jnp.diff(play_operator(jnp.cumsum(jnp.concatenate([kin.theta[:1], terms.dpath])),

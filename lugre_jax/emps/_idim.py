@@ -12,7 +12,8 @@
 
 Decimating ``sign(dq)`` rather than taking the sign of the decimated velocity matters: the
 decimated column passes through zero over a few samples at a reversal, as the filtered force does,
-while the sign of the decimated velocity jumps (docs/emps.md: 5.96 % instead of the published 4.08 %).
+while the sign of the decimated velocity jumps, and regressing on it misses the published relative
+error (docs/emps.md).
 This is the package's only IDIM-LS; ``lugre_jax.io`` only reads the file.
 """
 

@@ -218,8 +218,9 @@ class EmpsLuGre(AbstractEmpsModel):
 
 class AsymmetricRipple(AbstractAsymmetric):
     """What ``diagnose`` names on EMPS: direction-dependent friction (offset kept) plus a
-    position-periodic force ``a_sin*sin(2*pi*q/period) + a_cos*cos(2*pi*q/period)`` (period
-    ~2.47 mm: screw-lead/cogging ripple). Backlash (a ~25 um dead band) is not modelled here."""
+    position-periodic force ``a_sin*sin(2*pi*q/period) + a_cos*cos(2*pi*q/period)`` (a
+    screw-lead/cogging ripple; its period: docs/emps.md). The dead band ``diagnose`` also names is
+    not modelled here."""
 
     label: ClassVar[str] = "asymmetric_ripple"
     a_sin: jnp.ndarray = param("N", -10.0, 10.0)

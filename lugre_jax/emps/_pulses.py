@@ -10,8 +10,8 @@ gain, sign or delay. Two places are tested, each by a linear regression on the c
   gain (1 = the column is the force on the load at its own sign). The force and pulses columns
   are filtered as the position is on its way to ``ddq`` (:func:`matched_force`).
 * **command** (added to the controller's output before ``vir`` is logged): the logged ``vir`` minus
-  the controller law applied to the logged ``qm``, ``qg`` (which reproduces ``vir`` to 0.004 V RMS
-  on the estimation run), regressed on ``pulses(t - d)``; the gain in V/N times ``gtau`` is the
+  the controller law applied to the logged ``qm``, ``qg`` (which reproduces ``vir`` closely on the
+  estimation run: docs/emps.md), regressed on ``pulses(t - d)``; the gain in V/N times ``gtau`` is the
   same force gain ``g``.
 
 At each location the delay is the one of least squared residual. The gain's standard error is

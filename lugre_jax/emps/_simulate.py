@@ -3,8 +3,8 @@
 At sample ``k`` the drive reads ``qm[k]``, estimates the velocity with its 2-tap filter
 ``dqm[k] = (qm[k] - qm[k-2])/(2*T)`` (the benchmark's ``filterq1 = [0.5 0.5]`` on the backward
 difference), outputs ``vir[k] = sat_10V(kp*kv*(qg[k] - qm[k]) - kv*dqm[k])`` and holds it over
-``[t_k, t_k+1)`` (zero-order hold). On the recording this law reproduces the logged ``vir`` to
-0.0037 V RMS (0.24 % of its RMS) with no extra delay; one sample of delay gives 0.054 V.
+``[t_k, t_k+1)`` (zero-order hold). On the recording this law reproduces the logged ``vir`` with no
+extra delay; one sample of delay fits it worse (docs/emps.md).
 
 The plant is integrated within each sample by ``substeps`` steps of a :class:`Stepping` choice:
 
@@ -57,8 +57,8 @@ class RungeKutta(AbstractSubstepping):
 
     solver: diffrax.AbstractSolver = diffrax.Tsit5()
     # 10 substeps of 1e-4 s: the smooth Coulomb sign is stiff below ~1e-4 m/s and a reversal
-    # crosses that band in ~2e-4 s; against scipy (tests/test_emps.py) 4 substeps leave 0.4 um,
-    # 10 leave 0.03 um.
+    # crosses that band in ~2e-4 s, which fewer substeps step over (agreement with scipy,
+    # tests/test_emps.py: docs/emps.md).
     substeps: int = eqx.field(static=True, default=10)
 
     def advance(self, model, x, u, T):

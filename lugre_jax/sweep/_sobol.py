@@ -108,7 +108,7 @@ def _bootstrap_std(A, B, AB, BA, r, second: bool):
         return _estimates(A[idx], B[idx], AB[idx], None if BA is None else BA[idx], second)
 
     # One resample at a time: each gathers (N, D+2) values, so memory stays at one resample's
-    # worth; measured faster than vmapped batches of resamples (docs/sweeps.md, Performance).
+    # worth, and it is faster than vmapped batches of resamples (docs/sweeps.md, Performance).
     S1, ST, S2 = jax.lax.map(one, r.T)
     std = lambda x: None if x is None else jnp.std(x, axis=0, ddof=1)  # noqa: E731
     # SALib sets an interval to 0 when all resampled A and B outputs are equal.

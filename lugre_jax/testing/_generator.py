@@ -562,7 +562,7 @@ class _RHS:
     hold still) and +1/-1 while the motor pushes the load forward/back. The mode is switched by
     events (:meth:`events`), never decided from the state inside the right-hand side: engaged, the
     gap stays at +-width/2 only to the integrator's tolerance, and a test of it there chatters
-    between the modes and stalls the integrator at steps of 1e-10 s."""
+    between the modes and stalls the integrator at vanishing steps."""
 
     def __init__(self, plant, ctrl, exc, effects, t_mid):
         self.p, self.ctrl, self.exc, self.t_mid = plant, ctrl, exc, t_mid
@@ -657,8 +657,8 @@ class _RHS:
         At a stop of the engaged motor the next mode follows the forces at rest (Filippov): backing
         off if its push without the load's friction is already reversed; going on if its push with
         that friction is still forward; otherwise pinned at rest against the load (velocity held at 0,
-        the load's bristles carrying the difference) until one of those changes -- in the original
-        right-hand side, that case chattered between open and engaged at steps of 1e-15 s."""
+        the load's bristles carrying the difference) until one of those changes: left to the open
+        and engaged modes alone, that case chatters between them at vanishing steps."""
         y = np.array(y, float)
         half, kb, m = 0.5 * self.back.width, self.kb, self.mode
         if m == 0:
