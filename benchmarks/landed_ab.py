@@ -21,7 +21,7 @@ cases = [("bosh3_20ms_b1000", lj.FixedStep(diffrax.Bosh3(), dt=0.02), 1000),
          ("adaptive_b200", lj.Adaptive(), 200)]
 for name, st, b in cases:
     s = lj.broadcast_system(one, b)
-    f = lambda: jax.block_until_ready(lj.simulate(s, 20.0, 100.0, batched=True, stepping=st, saveat=lj.SaveAt(fn=track)))
+    f = lambda: jax.block_until_ready(lj.simulate(s, 20.0, 100.0, batched=True, stepping=st, saveat=lj.SaveAt(reduce=track)))
     f()
     walls, cpus = [], []
     for _ in range(5):

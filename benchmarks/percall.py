@@ -5,7 +5,7 @@
 The bench's system (the paper's segmented joint, J 0.128, velocity PI kp 8, ki 60 at 0.02 deg/s,
 Fc, Fs, sigma0, sigma1, sigma2 scaled per lane by factors in [0.9, 1.1], seed 3), 20 s at 100 Hz,
 ``FixedStep(Bosh3(), dt=0.02)``, each lane reduced inside the call to its mean squared position and
-velocity tracking errors (``SaveAt(fn=...)``). CALLS calls are timed together, REPS times; prints
+velocity tracking errors (``SaveAt(reduce=...)``). CALLS calls are timed together, REPS times; prints
 the minimum and median wall and CPU time per call. Public API only; the stepping, saveat and
 system are built once, as a user holds them, so the timed loop measures the call.
 """
@@ -53,7 +53,7 @@ def main(argv):
     import jax
 
     system = bench_system(batch)
-    stepping, saveat = lj.FixedStep(diffrax.Bosh3(), dt=0.02), lj.SaveAt(fn=tracking_errors)
+    stepping, saveat = lj.FixedStep(diffrax.Bosh3(), dt=0.02), lj.SaveAt(reduce=tracking_errors)
 
     def run():
         return lj.simulate(system, DURATION, HZ, batched=True, stepping=stepping, saveat=saveat)

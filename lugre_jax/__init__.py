@@ -26,6 +26,7 @@ from ._simulation import (
     Lanes as Lanes,
     Sample as Sample,
     SampleMean as SampleMean,
+    SampleValues as SampleValues,
     SaveAt as SaveAt,
     Solution as Solution,
     SteppingCheck as SteppingCheck,

@@ -29,7 +29,7 @@ def _finite(sol):
 def test_100k_random_lanes_fixed_step_are_finite_or_flagged():
     swarm = _swarm(100_000, seed=0)
     finite, result = lj.simulate(swarm, 2.0, 50.0, batched=True, stepping=lj.FixedStep(diffrax.Bosh3(), dt=0.02),
-                                 saveat=lj.SaveAt(fn=_finite))
+                                 saveat=lj.SaveAt(reduce=_finite))
     finite, result = np.asarray(finite), np.asarray(result)
     ok = result == lj.RESULT_OK
     assert np.all(finite[ok]), "a lane reported success with non-finite outputs"
@@ -44,7 +44,7 @@ def test_100k_random_lanes_fixed_step_are_finite_or_flagged():
 def test_random_lanes_adaptive_are_finite_or_flagged():
     swarm = _swarm(64, seed=1)
     finite, result = lj.simulate(swarm, 2.0, 50.0, batched=True, stepping=lj.Adaptive(diffrax.Kvaerno5(), max_steps=20_000),
-                                 saveat=lj.SaveAt(fn=_finite))
+                                 saveat=lj.SaveAt(reduce=_finite))
     finite, result = np.asarray(finite), np.asarray(result)
     ok = result == lj.RESULT_OK
     assert np.all(finite[ok])

@@ -392,8 +392,8 @@ def test_sample_mean_flags_failed_lanes_and_rejects_bad_input():
     assert np.isfinite(loss[:2]).all() and loss[2] == np.inf
     sol = lj.simulate(batch, 5.0, 100.0, batched=True, stepping=lj.FixedStep())
     np.testing.assert_allclose(loss[:2], np.mean((sol.theta - sol.theta_ref)[:2] ** 2, axis=-1), rtol=1e-12)
-    with pytest.raises(ValueError, match="not both"):
-        lj.SaveAt(mean=_tracking, fn=lambda s: s.theta)
+    with pytest.raises(ValueError, match="give one of"):
+        lj.SaveAt(mean=_tracking, reduce=lambda s: s.theta)
     with pytest.raises(TypeError, match="SaveAt.mean must be a function"):
         lj.SaveAt(mean=3.0)
 

@@ -90,7 +90,7 @@ def stick_slip_map(kp, duration, n=15):
         return jnp.nanmax(om), jnp.nanmin(om), sol.result
 
     hi, lo, res = (np.asarray(x) for x in lj.simulate(batch, duration, 10.0, batched=True, stepping=lj.FixedStep(),
-                                                              saveat=lj.SaveAt(fn=reduce)))
+                                                              saveat=lj.SaveAt(reduce=reduce)))
     v = V.ravel()
     swing = (hi - lo) / v
     sticks = (lo < 0.1 * v) & (res == 0)

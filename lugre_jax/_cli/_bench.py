@@ -56,7 +56,7 @@ def _evals_per_step(solver: str) -> int:
 @functools.lru_cache(maxsize=None)
 def _options(solver, dt, reduce, sample_mean, chunk_size, shard):
     # Built once per configuration, as a user holds them: the timed loops measure the solve.
-    return dict(stepping=FixedStep(FIXED_SOLVERS[solver](), dt=dt), saveat=SaveAt(fn=reduce, mean=sample_mean),
+    return dict(stepping=FixedStep(FIXED_SOLVERS[solver](), dt=dt), saveat=SaveAt(reduce=reduce, mean=sample_mean),
                 lanes=Lanes(chunk_size=chunk_size, shard=shard))
 
 

@@ -19,6 +19,7 @@ from ._solution import (
     RESULT_SOLVER_FAILED as RESULT_SOLVER_FAILED,
     Sample as Sample,
     SampleMean as SampleMean,
+    SampleValues as SampleValues,
     Solution as Solution,
     trajectory_loss as trajectory_loss,
 )

@@ -15,7 +15,7 @@ from ._adaptive import solve_adaptive
 from ._fixed import rhs_evals, solve_fixed
 from ._jit import array_jit
 from ._lanes import _SYSTEM_LANES, batch_size_of, chunked_lanes, split_lanes
-from ._solution import RESULT_OK, SampleMean, Solution
+from ._solution import RESULT_OK, SampleMean, SampleValues, Solution
 from ._lanewise import solve_lanewise
 from ._stepping import FIXED_STEPPINGS, AbstractStepping, Adaptive, LaneAdaptive, Lanes, SaveAt, step_for, step_plan
 from ._system import N_STATES, System, sample, signals, split
@@ -47,6 +47,19 @@ def _outputs(system: System, ts, ys, result) -> Solution:
 _J_MESSAGE = "Joint.J must be > 0 N*m*s^2/deg (equivalent inertia at the joint)"
 
 
+def _per_sample(system: System, fn, ts, ys):
+    """``fn`` of every sample of one lane's sampled solution, stacked along a leading sample axis."""
+    return jax.vmap(lambda i, t, y: fn(sample(system, i, t, split(y))))(jnp.arange(ts.shape[0]), ts, ys)
+
+
+def _finish(system: System, ts, ys, result, saveat: SaveAt):
+    """What one lane returns for ``saveat`` (other than ``mean``) from its sampled solution."""
+    if saveat.fn is not None:  # from the samples after the solve: as exact as the Solution's own fields
+        return SampleValues(_per_sample(system, saveat.fn, ts, ys), result)
+    sol = _outputs(system, ts, ys, result)
+    return sol if saveat.reduce is None else saveat.reduce(sol)
+
+
 def _check_inertia(system: System) -> bool:
     """Check a concrete inertia here; say whether the traced program must check it instead.
 
@@ -76,10 +89,9 @@ def _solve_one(system: System, n: int, sample_hz: float, stepping: AbstractStepp
     else:
         ys, res = solve_adaptive(system, ts, stepping)
         if saveat.mean is not None:  # the same mean, from the sampled solution
-            vals = jax.vmap(lambda i, t, y: saveat.mean(sample(system, i, t, split(y))))(jnp.arange(n), ts, ys)
+            vals = _per_sample(system, saveat.mean, ts, ys)
             return SampleMean(jax.tree.map(lambda v: jnp.mean(v, axis=0), vals), res)
-    sol = _outputs(system, ts, ys, res)
-    return sol if saveat.fn is None else saveat.fn(sol)
+    return _finish(system, ts, ys, res, saveat)
 
 
 def _solve_chunk(system: System, n: int, sample_hz: float, stepping: LaneAdaptive, saveat: SaveAt,
@@ -94,11 +106,7 @@ def _solve_chunk(system: System, n: int, sample_hz: float, stepping: LaneAdaptiv
     ys, res, _ = solve_lanewise(system, n, sample_hz, stepping)
     ts = jnp.arange(n) / sample_hz
 
-    def finish(s_, y_, r_):
-        sol = _outputs(s_, ts, y_, r_)
-        return sol if saveat.fn is None else saveat.fn(sol)
-
-    return eqx.filter_vmap(finish)(system, ys, res)
+    return eqx.filter_vmap(lambda s_, y_, r_: _finish(s_, ts, y_, r_, saveat))(system, ys, res)
 
 
 def _solve_lanewise_one(system, n, sample_hz, stepping, saveat, check_inertia=True):
@@ -126,7 +134,7 @@ def simulate(
     saveat: SaveAt = SaveAt(),
     batched: bool = False,
     lanes: Lanes = Lanes(),
-) -> Solution | SampleMean:
+) -> Solution | SampleValues | SampleMean:
     """Simulate ``system`` from rest (or ``system.y0``) for ``duration_s`` seconds.
 
     Samples at ``t = 0, 1/sample_hz, ..., duration_s``: positions in deg, velocities in deg/s,
@@ -141,8 +149,9 @@ def simulate(
     each lane its own error-controlled step (forward mode only).
 
     ``saveat``: what is returned per lane (:class:`SaveAt`): the whole :class:`Solution` (default),
-    a function of it (``fn``) or a mean over samples accumulated in the time loop (``mean``, a
-    :class:`SampleMean`).
+    a function of every sample stacked over the samples (``fn``, a :class:`SampleValues`), a function
+    of the whole solution (``reduce``) or a mean over samples accumulated in the time loop (``mean``,
+    a :class:`SampleMean`).
 
     ``batched=True``: every array leaf of ``system`` has a leading batch axis; all lanes are solved
     in one jitted call, spread as ``lanes`` (:class:`Lanes`) says. Under ``vmap`` an adaptive solve
@@ -184,7 +193,7 @@ def simulate(
     else:
         out = chunked_lanes(key, lambda s: _solve_one(s, n, sample_hz, stepping, saveat, check_inertia), split,
                             lanes.chunk_size, shard, lane_bytes=lane_bytes)
-    if saveat.fn is None and saveat.mean is None:
+    if saveat.fn is None and saveat.reduce is None and saveat.mean is None:  # the whole Solution: one time axis
         out = eqx.tree_at(lambda s: s.ts, out, out.ts[0])
     return out
 

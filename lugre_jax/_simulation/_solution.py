@@ -77,7 +77,7 @@ class Solution(_AbstractStateView):
 
 
 class Sample(_AbstractStateView):
-    """One sample of one simulation, as a ``SaveAt(mean=fn)`` function sees it.
+    """One sample of one simulation, as a ``SaveAt(fn=g)`` or ``SaveAt(mean=g)`` function sees it.
 
     ``index`` is the sample number (0 at t = 0: use it to look up measured data), ``t`` the time
     [s], ``y`` the 8 state components in ``STATE_NAMES`` order (deg, deg/s, deg, A, deg*s...),
@@ -96,9 +96,9 @@ class Sample(_AbstractStateView):
 
 
 class SampleMean(eqx.Module):
-    """What :func:`simulate` returns with ``SaveAt(mean=fn)``: the mean of ``fn`` over every sample.
+    """What :func:`simulate` returns with ``SaveAt(mean=g)``: the mean of ``g`` over every sample.
 
-    ``value`` has ``fn``'s pytree structure, each leaf with a leading batch axis when batched;
+    ``value`` has ``g``'s pytree structure, each leaf with a leading batch axis when batched;
     ``result`` is the per-lane result code (0 = ok). A failed lane's value is meaningless (often
     NaN): use :meth:`or_inf` for a loss, so that a failed run is infinitely bad.
     """
@@ -118,9 +118,38 @@ class SampleMean(eqx.Module):
 
     def or_inf(self):
         """``value`` where the lane succeeded, ``+inf`` where it failed (leaf by leaf)."""
-        ok = self.ok
-        return jax.tree.map(lambda v: jnp.where(ok.reshape(ok.shape + (1,) * (v.ndim - ok.ndim)), v, jnp.inf),
-                            self.value)
+        return _or_inf(self.ok, self.value)
+
+
+class SampleValues(eqx.Module):
+    """What :func:`simulate` returns with ``SaveAt(fn=g)``: ``g(sample)`` at every sample, stacked.
+
+    ``value`` has ``g``'s pytree structure, each leaf with a leading sample axis (``(n, ...)``;
+    ``(batch, n, ...)`` when batched); ``result`` is the per-lane result code (0 = ok). A failed
+    lane's values are meaningless (often NaN): :meth:`or_inf` makes them ``+inf``.
+    """
+
+    value: PyTree
+    result: Int[Array, "*b"]
+
+    @property
+    def ok(self):
+        return self.result == RESULT_OK
+
+    def to_json(self) -> dict:
+        import numpy as np
+
+        return {"value": jax.tree.map(lambda v: np.asarray(v).tolist(), self.value),
+                "result": np.asarray(self.result).tolist(), "result_name": _result_names(self.result)}
+
+    def or_inf(self):
+        """``value`` where the lane succeeded, ``+inf`` at every sample where it failed (leaf by leaf)."""
+        return _or_inf(self.ok, self.value)
+
+
+def _or_inf(ok, value):
+    # a lane's code broadcast over the leaf's trailing axes (samples, the function's own axes)
+    return jax.tree.map(lambda v: jnp.where(ok.reshape(ok.shape + (1,) * (v.ndim - ok.ndim)), v, jnp.inf), value)
 
 
 def _result_names(result):

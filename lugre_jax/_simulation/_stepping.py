@@ -232,11 +232,16 @@ class LaneAdaptive(AbstractStepping):
 
 
 class SaveAt(eqx.Module):
-    """What :func:`simulate` returns for each lane (as diffrax's ``SaveAt``).
+    """What :func:`simulate` returns for each lane (as diffrax's ``SaveAt``). At most one of
+    ``fn``, ``reduce`` and ``mean`` is given.
 
     * ``SaveAt()``: the whole :class:`Solution` at every sample.
-    * ``SaveAt(fn=f)``: ``f(solution)`` of each lane, computed inside the jitted call (e.g. a loss
-      or a control metric), so memory no longer grows with the number of samples. The lane's
+    * ``SaveAt(fn=g)``: as diffrax's ``fn``, ``g`` applied at every saved time: ``g(sample)`` of
+      each :class:`Sample`, the outputs stacked along a leading sample axis, returned as a
+      :class:`SampleValues` (``value``, and the lane's ``result`` code). ``g`` sees what
+      ``SaveAt(mean=g)`` sees, and its values equal the :class:`Solution`'s at the same samples.
+    * ``SaveAt(reduce=f)``: ``f(solution)`` of each lane, computed inside the jitted call (e.g. a
+      loss or a control metric), so memory no longer grows with the number of samples. The lane's
       ``Solution.result`` is visible to ``f``: combine with :func:`trajectory_loss`.
     * ``SaveAt(mean=g)``: a :class:`SampleMean`, the mean of ``g(sample)`` over every sample,
       accumulated inside the time loop: nothing of the trajectory is stored, and a gradient's
@@ -245,16 +250,19 @@ class SaveAt(eqx.Module):
     """
 
     fn: Callable | None = eqx.field(static=True, default=None)
+    reduce: Callable | None = eqx.field(static=True, default=None)
     mean: Callable | None = eqx.field(static=True, default=None)
 
     def __check_init__(self):
-        for name in ("fn", "mean"):
+        given = [name for name in ("fn", "reduce", "mean") if getattr(self, name) is not None]
+        for name in given:
             f = getattr(self, name)
-            if f is not None and not callable(f):
+            if not callable(f):
                 raise TypeError(f"SaveAt.{name} must be a function, got {type(f).__name__}")
-        if self.fn is not None and self.mean is not None:
-            raise ValueError("SaveAt: give fn (a function of the whole Solution) or mean (a function of "
-                             "one Sample, averaged over samples), not both")
+        if len(given) > 1:
+            raise ValueError(f"SaveAt: give one of fn (a function of each Sample, stacked over samples), "
+                             f"reduce (a function of the whole Solution) or mean (a function of one Sample, "
+                             f"averaged over samples), got {' and '.join(given)}")
 
 
 class Lanes(eqx.Module):

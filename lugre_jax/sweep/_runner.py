@@ -71,7 +71,7 @@ def _simulate_lanes(system, spec: SweepSpec, stepping, shard):
     """THE simulator call of the sweep: per-lane metrics ``(lanes, outputs)`` and result codes
     ``(lanes,)``, reduced inside the batched call (nothing of the trajectories is kept)."""
     vals, code = simulate(system, spec.duration_s, spec.sample_hz, batched=True, stepping=stepping,
-                          saveat=SaveAt(fn=_Reduce(spec.outputs)), lanes=Lanes(shard=shard))
+                          saveat=SaveAt(reduce=_Reduce(spec.outputs)), lanes=Lanes(shard=shard))
     return np.asarray(vals), np.asarray(code)
 
 
