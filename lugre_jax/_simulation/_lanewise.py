@@ -117,15 +117,26 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
         first = jnp.floor(t * sample_hz + 1e-7).astype(jnp.int32) + 1
         last = jnp.floor(t1 * sample_hz + 1e-7).astype(jnp.int32)
         inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
-        for r in range(k_rows):
-            i = first + r
-            s = jnp.clip((i * h_sample - t) * inv_h, 0.0, 1.0)
-            interp = _hermite(y, k0, y1, k_end, h, s)
-            take = accept & (i <= last)
-            if sample_fn is None:
-                idx = jnp.where(take, i, n)  # n: out of range, dropped
-                buf = buf.at[lanes, idx].set(jnp.stack(interp, axis=-1), mode="drop")
-            else:
+        if sample_fn is None:
+            # every sample the step crosses, all lanes, in one scatter into the flattened buffer
+            # (one scatter per row costs more than the rows' updates)
+            i = first[:, None] + jnp.arange(k_rows)[None, :]
+            s = jnp.clip((i * h_sample - t[:, None]) * inv_h[:, None], 0.0, 1.0)
+            col = lambda a: a[:, None]  # noqa: E731
+            interp = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)),
+                              tuple(map(col, k_end)), col(h), s)
+            take = accept[:, None] & (i <= last[:, None])
+            # a sample not taken goes out of range (dropped), each to its own index: all indices unique
+            idx = jnp.where(take, lanes[:, None] * n + i, b * n + jnp.arange(b * k_rows).reshape(b, k_rows)).reshape(-1)
+            flat = buf.reshape(b * n, N_STATES)
+            buf = flat.at[idx].set(jnp.stack(interp, axis=-1).reshape(-1, N_STATES), mode="drop",
+                                   unique_indices=True).reshape(b, n, N_STATES)
+        else:
+            for r in range(k_rows):
+                i = first + r
+                s = jnp.clip((i * h_sample - t) * inv_h, 0.0, 1.0)
+                interp = _hermite(y, k0, y1, k_end, h, s)
+                take = accept & (i <= last)
                 val = per_sample(system, i, i * h_sample, interp)
                 buf = jax.tree.map(lambda a, v: a + jnp.where(take.reshape(take.shape + (1,) * (v.ndim - 1)), v, 0.0),
                                    buf, val)
