@@ -170,9 +170,13 @@ ACCELERATION_GROUPS = ("torque_rate", "jerk", "transmitted_torque")
 
 
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
-              max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False) -> Attribution:
+              max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
+              floor_nm: float | None = None) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
-    ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out."""
+    ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. Where the held-out RMSE
+    with a term stays above ``floor_nm`` (the at-floor bound) the residual holds misfit the null
+    draws do not describe, so the term's held-out p is the larger of the draws' and the analytic
+    one (which allows any colour)."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
     _, F, tau_model = (np.asarray(x) for x in M._parts(model, kin))
@@ -228,6 +232,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             g, X = cands[k]
             held = _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, fb if line_X is not None else None)
             new, p_held, p_analytic, pred, beta = held
+            if floor_nm is not None and new > floor_nm:
+                p_held = max(p_held, p_analytic)
             # the term's held-out share must reach the resolution locate claims structure at
             # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves
             share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))

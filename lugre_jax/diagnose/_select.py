@@ -560,7 +560,8 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
     return attribute(model, _all_specs(model, floor.scales, fit_offset, freeze_baseline=frozen), ctx, prep.kin, split.rows,
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
-                     quantised_derivatives=_quantised_derivatives(prep.cond))
+                     quantised_derivatives=_quantised_derivatives(prep.cond),
+                     floor_nm=cfg.at_floor * floor.floor_nm)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
