@@ -95,7 +95,29 @@ class Sample(_AbstractStateView):
     v_ref: Float[Array, ""]
 
 
-class SampleMean(eqx.Module):
+class AbstractLaneValues(eqx.Module):
+    """Per-lane values of a solve with the lane's result code: what :class:`SampleMean` and
+    :class:`SampleValues` share."""
+
+    value: eqx.AbstractVar[PyTree]
+    result: eqx.AbstractVar[Int[Array, "*b"]]
+
+    @property
+    def ok(self):
+        return self.result == RESULT_OK
+
+    def to_json(self) -> dict:
+        import numpy as np
+
+        return {"value": jax.tree.map(lambda v: np.asarray(v).tolist(), self.value),
+                "result": np.asarray(self.result).tolist(), "result_name": _result_names(self.result)}
+
+    def or_inf(self):
+        """``value`` where the lane succeeded, ``+inf`` (at every sample) where it failed, leaf by leaf."""
+        return _or_inf(self.ok, self.value)
+
+
+class SampleMean(AbstractLaneValues):
     """What :func:`simulate` returns with ``SaveAt(mean=g)``: the mean of ``g`` over every sample.
 
     ``value`` has ``g``'s pytree structure, each leaf with a leading batch axis when batched;
@@ -106,22 +128,8 @@ class SampleMean(eqx.Module):
     value: PyTree
     result: Int[Array, "*b"]
 
-    @property
-    def ok(self):
-        return self.result == RESULT_OK
 
-    def to_json(self) -> dict:
-        import numpy as np
-
-        return {"value": jax.tree.map(lambda v: np.asarray(v).tolist(), self.value),
-                "result": np.asarray(self.result).tolist(), "result_name": _result_names(self.result)}
-
-    def or_inf(self):
-        """``value`` where the lane succeeded, ``+inf`` where it failed (leaf by leaf)."""
-        return _or_inf(self.ok, self.value)
-
-
-class SampleValues(eqx.Module):
+class SampleValues(AbstractLaneValues):
     """What :func:`simulate` returns with ``SaveAt(fn=g)``: ``g(sample)`` at every sample, stacked.
 
     ``value`` has ``g``'s pytree structure, each leaf with a leading sample axis (``(n, ...)``;
@@ -131,20 +139,6 @@ class SampleValues(eqx.Module):
 
     value: PyTree
     result: Int[Array, "*b"]
-
-    @property
-    def ok(self):
-        return self.result == RESULT_OK
-
-    def to_json(self) -> dict:
-        import numpy as np
-
-        return {"value": jax.tree.map(lambda v: np.asarray(v).tolist(), self.value),
-                "result": np.asarray(self.result).tolist(), "result_name": _result_names(self.result)}
-
-    def or_inf(self):
-        """``value`` where the lane succeeded, ``+inf`` at every sample where it failed (leaf by leaf)."""
-        return _or_inf(self.ok, self.value)
 
 
 def _or_inf(ok, value):
