@@ -658,26 +658,25 @@ OUTSIDE2_ROWS = [
 ]
 
 
+def _outside_set(prefix, rows, recipes, seed0):
+    """One recording per row ``(recipe, effect id, parameters, expected dependence)``: ``expected``
+    is ``unexplained``, ``expected_dependence`` what the residual follows; seeds ``seed0 + k``."""
+    return [_recipe_job(f"{prefix}{k:02d}_{eid}_{r}", r, seed0 + k, [(eid, kw)], "unexplained", recipes)
+            | {"expected_dependence": dep} for k, (r, eid, kw, dep) in enumerate(rows)]
+
+
 def outside2_settings():
     """A second outside set (issue #31), fixed and committed before its first run: the four effects
     outside the candidates, two recordings each, on plants, excitations, rates, loops and seeds
     (5300 + k) the outside study did not use, each at the concealed level."""
-    out = []
-    for k, (r, eid, kw, dep) in enumerate(OUTSIDE2_ROWS):
-        job = _recipe_job(f"outside2_{k:02d}_{eid}_{r}", r, 5300 + k, [(eid, kw)], "unexplained", _OUT2_RECIPES)
-        out.append(job | {"expected_dependence": dep})
-    return out
+    return _outside_set("outside2_", OUTSIDE2_ROWS, _OUT2_RECIPES, 5300)
 
 
 def outside_settings():
     """Effects outside the eight candidates (issue #31) at the concealed level, two recordings each
     on different plants, loops and excitations; ``expected`` is ``unexplained`` and
     ``expected_dependence`` what the residual follows."""
-    out = []
-    for k, (r, eid, kw, dep) in enumerate(OUTSIDE_ROWS):
-        job = _recipe_job(f"outside{k:02d}_{eid}_{r}", r, 5200 + k, [(eid, kw)], "unexplained", _OUT_RECIPES)
-        out.append(job | {"expected_dependence": dep})
-    return out
+    return _outside_set("outside", OUTSIDE_ROWS, _OUT_RECIPES, 5200)
 
 
 def excitation_of(name: str, fs: float, seed: int, short: bool = False, kw=None):
