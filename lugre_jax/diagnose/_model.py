@@ -41,7 +41,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .. import _fit
-from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck
+from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck, bristle_coefficients
 from .._results import RESULTS, promote, result_name
 from .._types import Array, Float
 
@@ -196,11 +196,7 @@ def lugre_torque(f: LuGre, v: Float[Array, " n"], h: Float[Array, " n-1"], z0=No
     vint = 0.5 * (v[:-1] + v[1:])
     if dpath is None:
         dpath = vint * h
-    gint = f.g(vint)
-    x = f.sigma0 * jnp.abs(dpath) / gint
-    xs = jnp.where(x > 1e-8, x, 1.0)
-    e = jnp.exp(-x)
-    c = dpath * jnp.where(x > 1e-8, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+    e, c = bristle_coefficients(dpath, f.g(vint), f.sigma0)
     # z_{k+1} = e_k*z_k + c_k: affine in z with coefficients set by the measured velocity alone.
     # (jax.lax.associative_scan would make it log-depth, but compiles much slower under the LM's
     # forward-mode Jacobian; a one-shot diagnosis pays every compilation, so a sequential scan.)

@@ -81,9 +81,16 @@ def bristle_coefficients(dpath, g, sigma0):
     argument. ``dpath`` is the displacement over the step (``v*h``), in ``z``'s unit.
     """
     x = sigma0 * jnp.abs(dpath) / g
+    return jnp.exp(-x), dpath * _phi1(x)[2]
+
+
+def _phi1(x):
+    """``(small, xs, phi1(x))``: ``phi1(x) = (1 - exp(-x))/x`` by ``expm1`` where ``x`` is not
+    small, its series ``1 - x/2`` below 1e-8 (``xs``: ``x`` with the small ones replaced by 1, so
+    no branch divides by zero, gradients included)."""
     small = x > 1e-8
     xs = jnp.where(small, x, 1.0)
-    return jnp.exp(-x), dpath * jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+    return small, xs, jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
 
 
 def bristle_step(z, dpath, g, sigma0):
@@ -92,9 +99,7 @@ def bristle_step(z, dpath, g, sigma0):
     :func:`bristle_coefficients`. ``z_mean = z*phi1 + dpath*(1 - phi1)/x``, ``z + dpath/2`` as
     ``x -> 0``."""
     x = sigma0 * jnp.abs(dpath) / g
-    small = x > 1e-8
-    xs = jnp.where(small, x, 1.0)
-    phi = jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+    small, xs, phi = _phi1(x)
     z_next = jnp.exp(-x) * z + dpath * phi
     z_mean = jnp.where(small, z * phi + dpath * (1.0 - phi) / xs, z + 0.5 * dpath)
     return z_next, z_mean
