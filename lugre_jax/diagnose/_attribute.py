@@ -84,10 +84,9 @@ def _time_line_freqs(t, R, rows, min_periods: float = 3.0, oversample: int = 4):
     recording and a quarter of the sample rate (rows: residuals, full length), on a grid
     ``oversample`` times finer than the Fourier frequencies (a line between two of them is
     otherwise placed up to half a bin off, and its sine fits the residual the worse)."""
-    R = np.atleast_2d(np.asarray(R, float))
-    m = oversample * R.shape[1]
-    X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), n=m, axis=1)
-    f, P = np.fft.rfftfreq(m, float(np.median(np.diff(t))))[1:], np.abs(X[:, 1:]) ** 2
+    from ._locate import _power
+
+    f, P = _power(t, R, oversample)
     band = (f >= min_periods / float(t[-1] - t[0])) & (f <= 0.25 / float(np.median(np.diff(t))))
     if not band.any():
         return np.zeros(np.atleast_2d(R).shape[0])
@@ -104,15 +103,16 @@ def held_out_gains(base, X, E, rows, val) -> np.ndarray:
     columns (the current model's linearised refit and the terms already in), ``r1`` the same with
     the term's columns ``X`` added. Its law under the null, for the recording's own noise colour,
     kinematic errors and blocks, in place of a normal approximation with few validation blocks."""
-    Et = E[:, rows].T
+    r0 = _val_residual(base, E, rows, val)
+    return np.sum(r0 ** 2 - _val_residual(np.column_stack([base, X]), E, rows, val) ** 2, axis=0)
 
-    def val_residual(D):
-        # the pseudo-inverse once, for every draw (lstsq's cutoff)
-        P = np.linalg.pinv(D[rows], rcond=max(D[rows].shape) * np.finfo(float).eps)
-        return E[:, val].T - D[val] @ (P @ Et)
 
-    r0, r1 = val_residual(base), val_residual(np.column_stack([base, X]))
-    return np.sum(r0 ** 2 - r1 ** 2, axis=0)
+def _val_residual(D, E, rows, val):
+    """Each draw (row of ``E``) less its least-squares fit on the training ``rows`` by ``D``'s
+    columns, on the held-out ``val`` samples (val x draws): one pseudo-inverse for every draw, with
+    lstsq's cutoff."""
+    P = np.linalg.pinv(D[rows], rcond=max(D[rows].shape) * np.finfo(float).eps)
+    return E[:, val].T - D[val] @ (P @ E[:, rows].T)
 
 
 def _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, line_freqs):
@@ -128,8 +128,11 @@ def _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, line_freqs):
     p_analytic = C.held_out_p(r_fit, r - pred, blocks, val)
     d_obs = float(np.sum(r_fit[val] ** 2 - (r - pred)[val] ** 2))
     if g.name == TIME_LINE.name:
-        d_null = np.concatenate([held_out_gains(base, _sincos(t, f), E[b:b + 1], rows, val)
-                                 for b, f in enumerate(line_freqs)])
+        # each draw's own line; the draws' fit by the base columns alone is the same for all
+        r0 = _val_residual(base, E, rows, val)
+        r1 = np.column_stack([_val_residual(np.column_stack([base, _sincos(t, f)]), E[b:b + 1], rows, val)
+                              for b, f in enumerate(line_freqs)])
+        d_null = np.sum(r0 ** 2 - r1 ** 2, axis=0)
     else:
         d_null = held_out_gains(base, X, E, rows, val)
     p_held = float((1.0 + np.sum(d_null >= d_obs)) / (d_null.size + 1.0))
@@ -171,10 +174,10 @@ ACCELERATION_GROUPS = ("torque_rate", "jerk", "transmitted_torque")
 
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
-              floor_nm: float | None = None) -> Attribution:
+              at_floor_nm: float | None = None) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
     ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. Where the held-out RMSE
-    with a term stays above ``floor_nm`` (the at-floor bound) the residual holds misfit the null
+    with a term stays above ``at_floor_nm`` (the at-floor bound) the residual holds misfit the null
     draws do not describe, so the term's held-out p is the larger of the draws' and the analytic
     one (which allows any colour)."""
     r = np.asarray(ctx.residual, float)
@@ -232,7 +235,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             g, X = cands[k]
             held = _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, fb if line_X is not None else None)
             new, p_held, p_analytic, pred, beta = held
-            if floor_nm is not None and new > floor_nm:
+            if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
             # the term's held-out share must reach the resolution locate claims structure at
             # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves

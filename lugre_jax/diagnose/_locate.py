@@ -323,12 +323,14 @@ def _local_background(I, half_window: int, share: float = 1.0 / 3.0, min_half: i
     return (bg[0] if np.ndim(I) == 1 else bg), used
 
 
-def _power(t, R):
-    """Schuster periodogram of every row of ``R`` without its zero frequency: (frequencies, power)."""
+def _power(t, R, oversample: int = 1):
+    """Schuster periodogram of every row of ``R`` without its zero frequency: (frequencies, power);
+    ``oversample`` > 1 evaluates it on a grid that many times finer (zero padding)."""
     R = np.atleast_2d(np.asarray(R, float))
     n = R.shape[1]
-    X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), axis=1)
-    return np.fft.rfftfreq(n, float(np.median(np.diff(t))))[1:], (np.abs(X) ** 2 / n)[:, 1:]
+    m = oversample * n
+    X = np.fft.rfft(R - R.mean(axis=1, keepdims=True), n=m, axis=1)
+    return np.fft.rfftfreq(m, float(np.median(np.diff(t))))[1:], (np.abs(X) ** 2 / n)[:, 1:]
 
 
 def _time_lines(t, R, half_window: int = 200):
