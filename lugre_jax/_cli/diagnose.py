@@ -157,11 +157,13 @@ def _check_params_against(params: dict, rec, source) -> None:
     rather than reported as an infinite RMSE."""
     import numpy as np
 
+    from ..friction import stribeck_curve
+
     v = np.abs(np.asarray(rec.velocity, dtype=np.float64))
     fc, fs = params.get("Fc", 0.0), params.get("Fs", params.get("Fc", 0.0))
-    vs, d = params.get("vs", 1.0), params.get("delta", 2.0)
+    f = np.asarray(stribeck_curve(v, fc, fs, params.get("vs", 1.0), params.get("sigma2", 0.0),
+                                  params.get("delta", 2.0)))
     with np.errstate(all="ignore"):
-        f = fc + (fs - fc) * np.exp(-np.abs(v / vs) ** d) + params.get("sigma2", 0.0) * v
         inertia = params["J"] * np.abs(np.asarray(rec.acceleration, dtype=np.float64))
         model = float(np.max(np.abs(f) + inertia + abs(params.get("offset", 0.0))))
     scale = float(np.max(np.abs(rec.torque)))

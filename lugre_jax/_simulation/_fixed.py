@@ -8,6 +8,7 @@ from jax.ad_checkpoint import checkpoint_name
 
 from .._fusion import derivative_stored_once, runtime_one
 from .._fusion import stored_once as _stored_once
+from ..friction import exp_phi1
 from ._solution import RESULT_NONFINITE, RESULT_OK
 from ._stepping import ExponentialBristle, step_for, step_plan
 from ._system import rates, sample, split
@@ -92,12 +93,7 @@ class _Bristle:
         _, p = self.friction.torque_and_derivative(zero, v)
         _, p_minus_q = self.friction.torque_and_derivative(zero + 1.0, v)
         x = (p - p_minus_q) * tau
-        # phi1(x) = (1 - exp(-x))/x, its series below 1e-8 (no 0/0 at rest)
-        small = x > 1e-8
-        xs = jnp.where(small, x, 1.0)
-        em1 = jnp.expm1(-xs)  # one transcendental for both exp(-x) and phi1
-        phi = jnp.where(small, -em1 / xs, 1.0 - 0.5 * x)
-        decay = jnp.where(small, 1.0 + em1, 1.0 - x)
+        decay, phi, _, _ = exp_phi1(x)
         return decay * z + (p * tau) * phi, self.friction.bristle_damping(v), x
 
     def undamped(self, y, k):

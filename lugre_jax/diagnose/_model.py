@@ -41,7 +41,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .. import _fit
-from ..friction import AbstractFrictionModel, CoulombViscous, LuGre, Stribeck, bristle_coefficients
+from ..friction import (AbstractFrictionModel, CoulombViscous, LuGre, Stribeck, bristle_coefficients,
+                        stribeck_curve)
 from .._results import RESULTS, promote, result_name
 from .._types import Array, Float
 
@@ -602,7 +603,8 @@ def initial_baseline(rec, friction: str = "lugre", fit_offset: bool = False) -> 
 
 
 def _stribeck_curve(v, Fc, Fs, vs, s2, off=0.0):
-    return np.sign(v) * (Fc + (Fs - Fc) * np.exp(-(v / vs) ** 2)) + s2 * v + off
+    """The steady-state friction curve plus a torque offset, as a NumPy array."""
+    return np.asarray(stribeck_curve(v, Fc, Fs, vs, s2)) + off
 
 
 def steady_state_samples(rec, noise: float, min_s: float = 0.3) -> np.ndarray:

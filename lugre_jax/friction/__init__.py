@@ -7,7 +7,8 @@ values checks them (sign; LuGre's passivity, see :class:`LuGre`).
 
 The formulas every friction computation shares are written once here: the Stribeck curve
 (:func:`stribeck_g`, :func:`stribeck_curve`), LuGre's bristle force and rate (:func:`bristle_force`)
-and the exact bristle update over a sample (:func:`bristle_coefficients`, :func:`bristle_step`).
+and the exact bristle update over a sample (:func:`bristle_coefficients`, :func:`bristle_step`, both
+from :func:`exp_phi1`, which the simulator's exponential stepping uses too).
 """
 
 from .._params import (
@@ -28,6 +29,7 @@ from ._models import (
     bristle_coefficients as bristle_coefficients,
     bristle_force as bristle_force,
     bristle_step as bristle_step,
+    exp_phi1 as exp_phi1,
     stribeck_curve as stribeck_curve,
     stribeck_g as stribeck_g,
 )

@@ -80,17 +80,20 @@ def bristle_coefficients(dpath, g, sigma0):
     large as the sampling makes it), exact for piecewise-constant velocity, differentiable in every
     argument. ``dpath`` is the displacement over the step (``v*h``), in ``z``'s unit.
     """
-    x = sigma0 * jnp.abs(dpath) / g
-    return jnp.exp(-x), dpath * _phi1(x)[2]
+    decay, phi, _, _ = exp_phi1(sigma0 * jnp.abs(dpath) / g)
+    return decay, dpath * phi
 
 
-def _phi1(x):
-    """``(small, xs, phi1(x))``: ``phi1(x) = (1 - exp(-x))/x`` by ``expm1`` where ``x`` is not
-    small, its series ``1 - x/2`` below 1e-8 (``xs``: ``x`` with the small ones replaced by 1, so
-    no branch divides by zero, gradients included)."""
+def exp_phi1(x):
+    """``(exp(-x), phi1(x), small, xs)`` for ``x >= 0``, from one ``expm1``: ``phi1(x) = (1 -
+    exp(-x))/x``, its series ``1 - x/2`` where ``x`` is 1e-8 or less (``small`` is False there;
+    ``xs`` is ``x`` with those replaced by 1, so no branch divides by zero, gradients included).
+    The exact bristle update of every stepping and of diagnose's inverse model."""
     small = x > 1e-8
     xs = jnp.where(small, x, 1.0)
-    return small, xs, jnp.where(small, -jnp.expm1(-xs) / xs, 1.0 - 0.5 * x)
+    em1 = jnp.expm1(-xs)
+    return (jnp.where(small, 1.0 + em1, 1.0 - x), jnp.where(small, -em1 / xs, 1.0 - 0.5 * x),
+            small, xs)
 
 
 def bristle_step(z, dpath, g, sigma0):
@@ -98,9 +101,8 @@ def bristle_step(z, dpath, g, sigma0):
     over the step (the friction's ``sigma0*z`` averaged over a sample), by the exact update of
     :func:`bristle_coefficients`. ``z_mean = z*phi1 + dpath*(1 - phi1)/x``, ``z + dpath/2`` as
     ``x -> 0``."""
-    x = sigma0 * jnp.abs(dpath) / g
-    small, xs, phi = _phi1(x)
-    z_next = jnp.exp(-x) * z + dpath * phi
+    decay, phi, small, xs = exp_phi1(sigma0 * jnp.abs(dpath) / g)
+    z_next = decay * z + dpath * phi
     z_mean = jnp.where(small, z * phi + dpath * (1.0 - phi) / xs, z + 0.5 * dpath)
     return z_next, z_mean
 
