@@ -5,7 +5,7 @@ A stated library of term groups, each a dependence with a standard physical read
 Groups are added greedily, as the candidates are: each step tests every group's first-order gain
 ``||P_{G|B} r||^2`` (B: the current model's Jacobian columns and the groups already in) against the
 same simulated null as the candidates (:mod:`._calibrate`; the time line's frequency search
-repeated on every draw), family-wise by max-T at the attribution's share of alpha, and keeps the
+repeated on every draw), family-wise by min-P at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
 held-out RMSE significantly (its held-out gain against the same gain on every null draw,
 :func:`held_out_gains`) by a share
@@ -220,7 +220,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             cands = cands + [(dataclasses.replace(TIME_LINE, labels=(f"sin(2*pi*{f_obs:.4g}*t)",
                                                                      f"cos(2*pi*{f_obs:.4g}*t)"),
                                                   units=(Tu, Tu)), line_X)]
-        p_raw, p_adj, z = C.max_t(np.asarray(obs), np.stack(T, axis=1))
+        p_raw, p_adj, z = C.min_p(np.asarray(obs), np.stack(T, axis=1))
         tests.append([{"signal": g.name, "gain_nm2": o, "gain_over_null_mean": float(zz), "p_raw": float(pr),
                        "p_family": float(pa)} for (g, _), o, zz, pr, pa in zip(cands, obs, z, p_raw, p_adj)])
         obs_a = np.asarray(obs)

@@ -16,9 +16,9 @@ statistic's distribution follows by simulating that chain (a parametric bootstra
 Each draw is scored exactly as the recording: the same projections, and for candidates whose
 starting points are searched on the residual (a ripple's period, a resonance's frequency) the
 search is repeated on the draw's own residual, so the null includes the look-elsewhere effect.
-Family-wise control over the candidates of a step is Westfall-Young's max-T: each gain is put in
-units of its own null mean, and a candidate's adjusted p-value is the share of draws whose largest
-standardised gain over all candidates reaches its own.
+Family-wise control over the candidates of a step is Westfall-Young's min-P: each gain is put
+on the scale of its own null's tail probability, and a candidate's adjusted p-value is the share
+of draws whose smallest tail probability over all candidates is at most its own (:func:`min_p`).
 """
 
 from __future__ import annotations
@@ -155,22 +155,46 @@ def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int
     return QB, (Er - QB @ (QB.T @ Er) if QB.shape[1] else Er)
 
 
-def max_t(obs: np.ndarray, T: np.ndarray):
-    """Raw and family-wise (max-T, each statistic over its null mean) p-values of the observed
-    statistics ``obs`` against null draws ``T`` (draws x tests); also the standardised statistics."""
+def chi2_log_sf(x: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """``log P(G >= x)`` per column, ``G`` the scaled chi-square ``c*chi2(nu)`` whose mean and
+    variance are those of the column's null draws ``T`` (draws x tests; Satterthwaite's match).
+
+    A gain is ``||P r||^2``: for Gaussian noise a weighted sum of chi-square(1) terms, which the
+    matched law follows closely in the tail. Its role is to put tests of different size and
+    degrees of freedom on one scale (a tail probability), not to be exact: the family's reference
+    stays the draws themselves. A column whose draws are all equal gets ``log 1 = 0``."""
+    m = np.mean(T, axis=0)
+    var = np.var(T, axis=0, ddof=1) if T.shape[0] > 1 else np.zeros_like(m)
+    ok = (m > 0) & (var > 0)
+    c = np.where(ok, var / np.maximum(2.0 * m, 1e-300), 1.0)
+    nu = np.where(ok, np.clip(2.0 * m ** 2 / np.where(ok, var, 1.0), 1e-3, 1e8), 1.0)
+    out = stats.chi2.logsf(np.maximum(x, 0.0) / c, nu)
+    return np.where(ok, out, 0.0)
+
+
+def min_p(obs: np.ndarray, T: np.ndarray):
+    """Raw and family-wise p-values of the observed statistics ``obs`` against null draws ``T``
+    (draws x tests), and each statistic over its null mean (``standardised``, for the report).
+
+    Family-wise control is Westfall-Young's min-P: every statistic, observed and drawn, is turned
+    into its tail probability under its own null (:func:`chi2_log_sf`), and a test's adjusted
+    p-value is the share of draws whose smallest tail probability over all tests is at most its
+    own. Tail probabilities, unlike gains over their null mean, weigh tests of different degrees of
+    freedom alike: a one-column candidate's heavy relative tail does not set the bar for a
+    six-column one. Never below the raw p-value; resolution ``1/(draws + 1)``."""
     B = T.shape[0]
     p_raw = (1.0 + np.sum(T >= obs[None, :], axis=0)) / (B + 1.0)
     scale = np.maximum(np.mean(T, axis=0), 1e-300)
-    std_obs, std_null = obs / scale, T / scale[None, :]
-    p_adj = (1.0 + np.sum(np.max(std_null, axis=1)[:, None] >= std_obs[None, :], axis=0)) / (B + 1.0)
-    return p_raw, np.maximum(p_adj, p_raw), std_obs
+    lp_obs, lp_null = chi2_log_sf(obs, T), chi2_log_sf(T, T)
+    p_adj = (1.0 + np.sum(np.min(lp_null, axis=1)[:, None] <= lp_obs[None, :], axis=0)) / (B + 1.0)
+    return p_raw, np.maximum(p_adj, p_raw), obs / scale
 
 
 @dataclasses.dataclass(frozen=True)
 class CandidateTest:
     """The calibrated test of one step: per candidate its statistic on the recording, its raw and
-    family-wise adjusted p-values against ``n_draws`` null draws (max-T over the candidates, each
-    gain over its null mean: ``standardised``), and the null's 1 - alpha quantile
+    family-wise adjusted p-values against ``n_draws`` null draws (min-P over the candidates; each
+    gain over its null mean is ``standardised``), and the null's 1 - alpha quantile
     of the statistic (what the recording's gain had to exceed, for the report)."""
 
     names: tuple
@@ -284,10 +308,8 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
         return CandidateTest((), z, z, z, z, z, (), n_draws)
     obs = np.asarray(obs)
     T = np.stack(null_stats, axis=1)  # draws x candidates
-    # max-T over candidates, each gain in units of its own null mean (a gain is sigma^2 times a
-    # chi-square of the candidate's shapes, so the ratio puts candidates of different size on one
-    # scale); its resolution is 1/(n_draws + 1) whatever the number of candidates
-    p_raw, p_adj, std_obs = max_t(obs, T)
+    # min-P over candidates (min_p): its resolution is 1/(n_draws + 1) whatever their number
+    p_raw, p_adj, std_obs = min_p(obs, T)
     q = np.quantile(T, 1.0 - alpha, axis=0)
     return CandidateTest(tuple(names), obs, std_obs, p_raw, p_adj, q, tuple(best), n_draws)
 

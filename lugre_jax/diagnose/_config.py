@@ -15,7 +15,7 @@ class DiagnoseConfig:
     - ``alpha`` (0.05): the family-wise false-alarm rate of a whole diagnosis on a recording the
       baseline model describes, split in three equal shares: locating residual structure (Holm
       over the residual tests), naming a candidate (each step's candidates against the simulated
-      null, max-T) and attributing what remains to a term of the library (the same null, max-T);
+      null, min-P) and attributing what remains to a term of the library (the same null, min-P);
       a recording is called ``none`` only if none of the three fires (Bonferroni over the three).
     - ``null_draws`` (None: ``ceil(5/alpha) - 1``, 99 at the default alpha): simulated recordings
       per test; p-values are multiples of 1/(null_draws + 1), and each test is held at a third of

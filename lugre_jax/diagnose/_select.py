@@ -7,7 +7,7 @@
    :mod:`._calibrate`);
 3. :func:`~._locate.locate`: residual tests, Holm-controlled at a third of alpha;
 4. :func:`_select`: greedy forward selection; at each step every candidate's first-order gain is
-   tested against null draws simulated for this recording (max-T, a third of alpha); the most
+   tested against null draws simulated for this recording (min-P, a third of alpha); the most
    significant candidates are refitted jointly with the current model, and the first that is
    plausible, identifiable and lowers the held-out error significantly is accepted;
 5. :func:`_attribute`: what no candidate explains is attributed to a term library (the last third
@@ -445,7 +445,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         test = test_candidates(current, specs_cur, names, ctx, kin, split.rows,
                                floor.null, cfg.draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
                                nuisance=floor.known["nuisance"])
-        # significance is family-wise (max-T); among the significant, the candidate that explains the
+        # significance is family-wise (min-P); among the significant, the candidate that explains the
         # most beyond what noise alone gives it (gain less its null mean) is refitted first: the
         # standardised gain would favour a one-shape candidate that takes a sliver of a larger effect
         excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
