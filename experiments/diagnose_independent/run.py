@@ -107,6 +107,11 @@ DAMPED = T.Plant(J=0.05, Fc=0.4, Fs=0.55, vs=0.15, sigma2=2.5, sigma0=60.0, sigm
 BRISK = T.Plant(J=0.08, Fc=0.5, Fs=0.8, vs=0.06, sigma2=0.8, sigma0=150.0, sigma1=0.8)
 HEFTY = T.Plant(J=0.45, Fc=1.8, Fs=2.4, vs=0.12, sigma2=2.0, sigma0=120.0, sigma1=2.0)
 DAINTY = T.Plant(J=0.03, Fc=0.35, Fs=0.6, vs=0.07, sigma2=0.6, sigma0=90.0, sigma1=0.6)
+# plants of the calib6 study only (no earlier study used them; all passive): a heavy joint with a
+# mid dip, a slender one with a narrow dip, a stiff-bristled one with a deep dip
+STOUT = T.Plant(J=0.3, Fc=1.2, Fs=1.7, vs=0.09, sigma2=1.4, sigma0=200.0, sigma1=1.6)
+SLENDER = T.Plant(J=0.06, Fc=0.45, Fs=0.65, vs=0.05, sigma2=0.9, sigma0=110.0, sigma1=0.9)
+KEEN = T.Plant(J=0.18, Fc=0.8, Fs=1.3, vs=0.08, sigma2=1.8, sigma0=250.0, sigma1=1.5)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -118,7 +123,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "damped": (DAMPED, T.VelocityPIController(kp=3.0, ki=18.0)),
           "brisk": (BRISK, T.VelocityPIController(kp=5.0, ki=30.0)),
           "hefty": (HEFTY, T.VelocityPIController(kp=28.0, ki=165.0)),
-          "dainty": (DAINTY, T.VelocityPIController(kp=1.9, ki=11.0))}
+          "dainty": (DAINTY, T.VelocityPIController(kp=1.9, ki=11.0)),
+          "stout": (STOUT, T.VelocityPIController(kp=19.0, ki=110.0)),
+          "slender": (SLENDER, T.VelocityPIController(kp=3.8, ki=22.0)),
+          "keen": (KEEN, T.VelocityPIController(kp=11.0, ki=67.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -132,7 +140,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "damped": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002),
         "brisk": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003),
         "hefty": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
-        "dainty": T.PositionPIDController.tuned(0.03, 3.5, tf=0.002)}
+        "dainty": T.PositionPIDController.tuned(0.03, 3.5, tf=0.002),
+        "stout": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
+        "slender": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
+        "keen": T.PositionPIDController.tuned(0.18, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -555,6 +566,51 @@ def calib5_settings(n: int = 40):
                             9800, n, loops=("pi", "pid"), nff=1, plant_k=2, fs_k=1, tn_rule=(2, 3))
 
 
+# calib6's excitations: the six kinds with parameters no earlier set used
+CALIB6_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.03, 0.12, 0.6, 1.8, 4.5), "dwell": 4.0 if i % 2 else 3.2,
+                            "transition": 0.25, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.6 * (i % 3), "f0": 0.05, "f1": 1.3, "duration": 40.0,
+                             "bias": 0.4 + 0.6 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.5 + 0.8 * (i % 2), "f0": 0.05, "f1": 0.9 + 0.4 * (i % 3),
+                            "n": 10 + 2 * (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.5 * (i % 3), "frequency": 0.12 + 0.08 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -3.0, 3.5, -1.0, 1.5) if i % 2 else (-2.5, 3.0, -1.5, 3.5, -2.5, 0.5),
+                                 "move_time": 1.2 + 0.6 * (i % 2), "dwell": 1.8, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.04, 0.25, 0.7, 2.2, 4.5), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib6_settings(n: int = 40):
+    """A sixth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (STOUT, SLENDER, KEEN), 180-880 Hz, torque noise 0.04-0.08 N*m, white in half
+    the rows and AR(1) of coefficient 0.4 or 0.6 in the other half, velocity noise 0.002-0.004
+    deg/s, quantisation 0.0006-0.0012 deg; seeds 10200 + i."""
+    return _effect_free_set("calib6", CALIB6_EXCITATIONS, ["stout", "slender", "keen"],
+                            [(True, True), (True, False), (False, True)], [180.0, 280.0, 440.0, 640.0, 880.0],
+                            [0.05, 0.08, 0.04], [0.0, 0.4, 0.0, 0.6], [0.002, 0.004], [0.0006, 0.0012],
+                            10200, n, loops=("pi", "pid"), nff=2, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
+# fresh7: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases and ripple periods changed again where that leaves their size alone
+_F7_FS = {"a": 340.0, "b": 310.0, "c": 290.0, "d": 560.0, "e": 460.0, "f": 230.0, "g": 410.0, "h": 270.0, "i": 330.0}
+_F7_RECIPES = {k: r[:4] + (_F7_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F7_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 2.9},
+              "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 0.6}}
+
+
+def fresh7_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (10400 + k), with the gravity's phase and the ripple's period and
+    phase changed."""
+    return [_recipe_job(f"fresh7_effect{k:02d}_{eid}_{r}", r, 10400 + k,
+                        [(eid, _F7_VARIED.get(eid, dict)(dict(kw)))], eid, _F7_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 # fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F6_FS = {"a": 320.0, "b": 360.0, "c": 260.0, "d": 600.0, "e": 420.0, "f": 200.0, "g": 380.0, "h": 300.0, "i": 240.0}
@@ -773,6 +829,10 @@ def jobs(study: str, seeds, strengths):
         return calib5_settings()
     if study == "outside2":
         return outside2_settings()
+    if study == "calib6":
+        return calib6_settings()
+    if study == "fresh7":
+        return fresh7_settings()
     if study == "null":
         return null_settings()
     if study == "heldout":
@@ -927,7 +987,7 @@ def run_one(job, top_k, cache=None):
 
 
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
-               "outside2")
+               "outside2", "calib6", "fresh7")
 
 
 def main():
