@@ -23,6 +23,7 @@ import dataclasses
 
 import numpy as np
 
+from .._fit import covariance
 from ..io import EmpsRun
 
 N_BORDER = 49  # MATLAB's n_border = 50, 1-based
@@ -114,7 +115,7 @@ def idim_ls(run: EmpsRun, asymmetric: bool = False) -> IdimResult:
     beta, *_ = np.linalg.lstsq(X, y, rcond=None)
     yhat = X @ beta
     err = y - yhat
-    sd = np.std(err, ddof=1) * np.sqrt(np.diag(np.linalg.inv(X.T @ X)))
+    sd = np.std(err, ddof=1) * covariance(X, err, absolute_sigma=True).standard_errors
     return IdimResult(dict(zip(names, map(float, beta))), dict(zip(names, map(float, sd))),
                       float(100 * np.linalg.norm(err) / np.linalg.norm(y)), int(y.shape[0]),
                       asymmetric, t, y, yhat)

@@ -34,6 +34,7 @@ import dataclasses
 import equinox as eqx
 import numpy as np
 
+from .._fit import covariance
 from ..io import EmpsRun
 from ._idim import N_BORDER, filtered_kinematics, sample_period
 
@@ -176,9 +177,8 @@ def _profile(y: np.ndarray, base: np.ndarray, cols: list[np.ndarray], delays: np
     X = np.column_stack([base, cols[i]]) if base.size else cols[i][:, None]
     beta, *_ = np.linalg.lstsq(X, y, rcond=None)
     e = y - X @ beta
-    p = X.shape[1]
     cov_nw = newey_west_cov(X, e)
-    cov_ols = (e @ e) / (n - p) * np.linalg.inv(X.T @ X)
+    cov_ols = covariance(X, e).covariance
     g, se = float(beta[-1]), float(np.sqrt(max(cov_nw[-1, -1], 0.0)))
     n_eff = float(n * min(1.0, cov_ols[-1, -1] / max(cov_nw[-1, -1], 1e-300)))
     z = float(stats.norm.ppf(0.975))
