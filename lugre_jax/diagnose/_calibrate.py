@@ -41,12 +41,15 @@ class NullModel:
     ``torque_sd`` and ``torque_phi``: the torque channel's noise (AR(1) standard deviation and
     coefficient); ``kinematic_draws``: pairs ``(synthetic, reference)`` of conditioned kinematics
     from :func:`._condition.perturbed_kinematics` (model-free; the current model turns each pair
-    into a torque error), scaled by ``kinematic_scale`` (at most 1: see ``diagnose``'s floor)."""
+    into a torque error), scaled by ``kinematic_scale`` (at most 1: see ``diagnose``'s floor);
+    ``blocks``: the recording's time-block ids, over which :func:`null_draws` mixes the kinematic
+    draws."""
 
     torque_sd: float
     torque_phi: float
     kinematic_draws: tuple
     kinematic_scale: float = 1.0
+    blocks: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
     def torque_noise(self, rng: np.random.Generator, shape: tuple[int, int]) -> np.ndarray:
         e = rng.standard_normal(shape)
@@ -69,7 +72,11 @@ class NullModel:
         # its own re-quantisation) overstates what the recording's residual keeps, which locate
         # takes as a known shape instead
         d = np.asarray(out)
-        d = d - d.mean(axis=0) if centred and d.shape[0] > 1 else d
+        if centred and d.shape[0] > 1:
+            # each centred draw rescaled to the spread of one realisation (centring on K draws
+            # leaves (K - 1)/K of its variance)
+            k = d.shape[0]
+            d = (d - d.mean(axis=0)) * np.sqrt(k / (k - 1.0))
         return self.kinematic_scale * d
 
 
@@ -129,14 +136,32 @@ def _jac_many(us, paths, bounds, template, kin, tau, w):
     return jax.vmap(lambda u: jax.jacfwd(M._residual_fn)(u, (paths, bounds, template, kin, tau, w, 1.0)))(us)
 
 
+def block_mixed(d: np.ndarray, blocks: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+    """``n_draws`` series (draws x n) made of the rows of ``d`` (K x n) block by block: each time
+    block of each series taken from one of the K rows at random (a block bootstrap over the K
+    realisations). The kinematics' errors are local in time (a smoothing window, the bristles'
+    memory), so a block of one realisation is a realisation of that block; mixed, the K draws give
+    ``n_draws`` nearly independent series instead of K repeated ones, whose few values would set
+    the null's tail (a term that a fresh realisation happens to follow would beat all K of them
+    with probability 1/(K + 1), whatever the draws)."""
+    _, b = np.unique(np.asarray(blocks), return_inverse=True)
+    pick = rng.integers(0, d.shape[0], size=(n_draws, int(b.max()) + 1))
+    return d[pick[:, b], np.arange(d.shape[1])[None, :]]
+
+
 def null_draws(model, kin, null: NullModel, n_draws: int, seed: int) -> np.ndarray:
     """``n_draws`` simulated residuals of ``model`` if it were complete (draws x n, every sample):
-    the torque noise plus the kinematics' errors carried through the model (cycled over the
-    kinematic draws); no refit is taken out, so a test referred to them is slightly conservative."""
+    the torque noise plus the kinematics' errors carried through the model (the kinematic draws
+    mixed block by block over ``null.blocks``, :func:`block_mixed`; cycled without blocks); no
+    refit is taken out, so a test referred to them is slightly conservative."""
     rng = np.random.default_rng(seed)
     E = null.torque_noise(rng, (n_draws, kin.v.shape[0]))
     eiv = null.kinematic_errors(model, kin)
-    return E + eiv[np.arange(n_draws) % eiv.shape[0]] if eiv.shape[0] else E
+    if not eiv.shape[0]:
+        return E
+    if null.blocks is not None and eiv.shape[0] > 1:
+        return E + block_mixed(eiv, null.blocks, n_draws, rng)
+    return E + eiv[np.arange(n_draws) % eiv.shape[0]]
 
 
 def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None,

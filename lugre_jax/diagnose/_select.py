@@ -321,7 +321,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
 
     rec, cond, base, kin = prep.rec, prep.cond, prep.base, prep.kin
     scales = M.data_scales(rec)
-    null = null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws)
+    null = dataclasses.replace(null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws), blocks=split.blocks)
     d = null.kinematic_errors(base, kin, centred=False)
     # the systematic part (the draws' mean) is what a correct model's residual keeps in expectation
     eiv_bias = np.where(split.keep, -d.mean(axis=0), 0.0)
