@@ -112,6 +112,11 @@ DAINTY = T.Plant(J=0.03, Fc=0.35, Fs=0.6, vs=0.07, sigma2=0.6, sigma0=90.0, sigm
 STOUT = T.Plant(J=0.3, Fc=1.2, Fs=1.7, vs=0.09, sigma2=1.4, sigma0=200.0, sigma1=1.6)
 SLENDER = T.Plant(J=0.06, Fc=0.45, Fs=0.65, vs=0.05, sigma2=0.9, sigma0=110.0, sigma1=0.9)
 KEEN = T.Plant(J=0.18, Fc=0.8, Fs=1.3, vs=0.08, sigma2=1.8, sigma0=250.0, sigma1=1.5)
+# plants of the calib7 study only (no earlier study used them; all passive): a mid-weight joint with a
+# shallow dip, a very light one with soft bristles, a heavy one with a wide dip
+MODEST = T.Plant(J=0.15, Fc=0.7, Fs=0.95, vs=0.1, sigma2=1.2, sigma0=140.0, sigma1=1.0)
+FEATHER = T.Plant(J=0.025, Fc=0.3, Fs=0.45, vs=0.06, sigma2=0.5, sigma0=70.0, sigma1=0.5)
+BULKY = T.Plant(J=0.5, Fc=2.0, Fs=2.9, vs=0.14, sigma2=2.2, sigma0=300.0, sigma1=2.2)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -126,7 +131,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "dainty": (DAINTY, T.VelocityPIController(kp=1.9, ki=11.0)),
           "stout": (STOUT, T.VelocityPIController(kp=19.0, ki=110.0)),
           "slender": (SLENDER, T.VelocityPIController(kp=3.8, ki=22.0)),
-          "keen": (KEEN, T.VelocityPIController(kp=11.0, ki=67.0))}
+          "keen": (KEEN, T.VelocityPIController(kp=11.0, ki=67.0)),
+          "modest": (MODEST, T.VelocityPIController(kp=9.0, ki=55.0)),
+          "feather": (FEATHER, T.VelocityPIController(kp=1.6, ki=9.5)),
+          "bulky": (BULKY, T.VelocityPIController(kp=31.0, ki=185.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -143,7 +151,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "dainty": T.PositionPIDController.tuned(0.03, 3.5, tf=0.002),
         "stout": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
         "slender": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
-        "keen": T.PositionPIDController.tuned(0.18, 3.0, tf=0.003)}
+        "keen": T.PositionPIDController.tuned(0.18, 3.0, tf=0.003),
+        "modest": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003),
+        "feather": T.PositionPIDController.tuned(0.025, 3.5, tf=0.002),
+        "bulky": T.PositionPIDController.tuned(0.5, 2.5, tf=0.005)}
 
 
 def controller_of(job):
@@ -611,6 +622,53 @@ def fresh7_settings():
             for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
 
 
+# calib7's excitations: the six kinds with parameters no earlier set used
+CALIB7_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.05, 0.18, 0.7, 2.4, 4.0), "dwell": 3.8 if i % 2 else 3.0,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.6 + 0.7 * (i % 3), "f0": 0.06, "f1": 1.2, "duration": 42.0,
+                             "bias": 0.3 + 0.7 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.9 * (i % 2), "f0": 0.07, "f1": 0.8 + 0.45 * (i % 3),
+                            "n": 9 + 3 * (i % 2), "duration": 42.0},
+    "position_sine": lambda i: {"amplitude": 2.0 + 3.0 * (i % 3), "frequency": 0.15 + 0.07 * (i % 2),
+                                "duration": 32.0},
+    "point_to_point": lambda i: {"amplitudes": (3.0, -1.5, 2.5, -3.0, 1.0) if i % 2 else (-2.0, 3.5, -2.5, 1.5, -1.0, 2.5),
+                                 "move_time": 1.1 + 0.7 * (i % 2), "dwell": 2.2, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.045, 0.22, 0.9, 2.0, 4.2), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib7_settings(n: int = 40):
+    """A seventh effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    no earlier set used (MODEST, FEATHER, BULKY), 200-820 Hz, torque noise 0.04-0.08 N*m, white in
+    half the rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise
+    0.0025-0.0045 deg/s, quantisation 0.0007-0.0013 deg; seeds 10600 + i."""
+    return _effect_free_set("calib7", CALIB7_EXCITATIONS, ["modest", "feather", "bulky"],
+                            [(True, True), (True, False), (False, True)], [200.0, 300.0, 470.0, 610.0, 820.0],
+                            [0.06, 0.04, 0.08], [0.0, 0.5, 0.0, 0.65], [0.0025, 0.0045], [0.0007, 0.0013],
+                            10600, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=3, tn_rule=(2, 5))
+
+
+# fresh8: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F8_FS = {"a": 300.0, "b": 330.0, "c": 270.0, "d": 520.0, "e": 440.0, "f": 250.0, "g": 350.0, "h": 290.0, "i": 310.0}
+_F8_RECIPES = {k: r[:4] + (_F8_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F8_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.3},
+              "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+              "position_ripple": lambda kw: kw | {"period": 1.1 * kw["period"], "phase": kw["phase"] - 1.2},
+              "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
+
+
+def fresh8_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (10800 + k), with the gravity's phase, the asymmetry's and
+    drift's sign and the ripple's period and phase changed."""
+    return [_recipe_job(f"fresh8_effect{k:02d}_{eid}_{r}", r, 10800 + k,
+                        [(eid, _F8_VARIED.get(eid, dict)(dict(kw)))], eid, _F8_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 # fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F6_FS = {"a": 320.0, "b": 360.0, "c": 260.0, "d": 600.0, "e": 420.0, "f": 200.0, "g": 380.0, "h": 300.0, "i": 240.0}
@@ -833,6 +891,10 @@ def jobs(study: str, seeds, strengths):
         return calib6_settings()
     if study == "fresh7":
         return fresh7_settings()
+    if study == "calib7":
+        return calib7_settings()
+    if study == "fresh8":
+        return fresh8_settings()
     if study == "null":
         return null_settings()
     if study == "heldout":
@@ -987,7 +1049,8 @@ def run_one(job, top_k, cache=None):
 
 
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
-               "outside2", "calib6", "fresh7")
+               "outside2", "calib6", "fresh7", "calib7",
+               "fresh8")
 
 
 def main():
