@@ -864,43 +864,18 @@ CONCEALED = {
 }
 
 
+# each study's rows, fixed before its first run
+SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
+            "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
+            "fresh5": fresh5_settings, "calib4": calib4_settings, "fresh6": fresh6_settings,
+            "calib5": calib5_settings, "outside2": outside2_settings, "calib6": calib6_settings,
+            "fresh7": fresh7_settings, "calib7": calib7_settings, "fresh8": fresh8_settings,
+            "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+
+
 def jobs(study: str, seeds, strengths):
-    if study == "calib":
-        return calib_settings()
-    if study == "fresh3":
-        return fresh3_settings()
-    if study == "outside":
-        return outside_settings()
-    if study == "calib2":
-        return calib2_settings()
-    if study == "fresh4":
-        return fresh4_settings()
-    if study == "calib3":
-        return calib3_settings()
-    if study == "fresh5":
-        return fresh5_settings()
-    if study == "calib4":
-        return calib4_settings()
-    if study == "fresh6":
-        return fresh6_settings()
-    if study == "calib5":
-        return calib5_settings()
-    if study == "outside2":
-        return outside2_settings()
-    if study == "calib6":
-        return calib6_settings()
-    if study == "fresh7":
-        return fresh7_settings()
-    if study == "calib7":
-        return calib7_settings()
-    if study == "fresh8":
-        return fresh8_settings()
-    if study == "null":
-        return null_settings()
-    if study == "heldout":
-        return heldout_settings()
-    if study == "fresh":
-        return fresh_settings()
+    if study in SETTINGS:
+        return SETTINGS[study]()
     if study == "issue":
         return [{"key": f"issue_{k}", "plant": "issue", "excitation": "staircase", "fs": 200.0,
                  "torque_noise": 0.08, "velocity_noise": 0.003, "quantisation": 0.0005,

@@ -48,8 +48,8 @@ class NullModel:
     torque_sd: float
     torque_phi: float
     kinematic_draws: tuple
+    blocks: np.ndarray = dataclasses.field(repr=False, compare=False)
     kinematic_scale: float = 1.0
-    blocks: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
     def torque_noise(self, rng: np.random.Generator, shape: tuple[int, int]) -> np.ndarray:
         e = rng.standard_normal(shape)
@@ -72,12 +72,14 @@ class NullModel:
         # its own re-quantisation) overstates what the recording's residual keeps, which locate
         # takes as a known shape instead
         d = np.asarray(out)
-        if centred and d.shape[0] > 1:
-            # each centred draw rescaled to the spread of one realisation (centring on K draws
-            # leaves (K - 1)/K of its variance)
-            k = d.shape[0]
-            d = (d - d.mean(axis=0)) * np.sqrt(k / (k - 1.0))
-        return self.kinematic_scale * d
+        return self.kinematic_scale * (centred_draws(d) if centred else d)
+
+
+def centred_draws(d: np.ndarray) -> np.ndarray:
+    """The draws (rows) less their mean, each rescaled to the spread of one realisation (centring on
+    K draws leaves (K - 1)/K of the variance); a single draw unchanged."""
+    k = d.shape[0]
+    return (d - d.mean(axis=0)) * np.sqrt(k / (k - 1.0)) if k > 1 else d
 
 
 def _as_kin(kin, x):
@@ -85,11 +87,11 @@ def _as_kin(kin, x):
     return eqx.tree_at(lambda k: (k.v, k.a, k.theta, k.dpath), kin, (v, a, th, jnp.diff(th)))
 
 
-def null_model(rec_in, cond, path: str, draws: int) -> NullModel:
+def null_model(rec_in, cond, path: str, draws: int, blocks: np.ndarray) -> NullModel:
     from ._condition import perturbed_kinematics
 
     pairs = tuple(perturbed_kinematics(rec_in, cond, path, seed) for seed in range(draws))
-    return NullModel(float(cond.torque_noise), float(cond.torque_noise_colour), pairs)
+    return NullModel(float(cond.torque_noise), float(cond.torque_noise_colour), pairs, blocks)
 
 
 def _orth(X: np.ndarray, rtol: float = 1e-8) -> np.ndarray:
@@ -152,16 +154,12 @@ def block_mixed(d: np.ndarray, blocks: np.ndarray, n_draws: int, rng: np.random.
 def null_draws(model, kin, null: NullModel, n_draws: int, seed: int) -> np.ndarray:
     """``n_draws`` simulated residuals of ``model`` if it were complete (draws x n, every sample):
     the torque noise plus the kinematics' errors carried through the model (the kinematic draws
-    mixed block by block over ``null.blocks``, :func:`block_mixed`; cycled without blocks); no
-    refit is taken out, so a test referred to them is slightly conservative."""
+    mixed block by block over ``null.blocks``, :func:`block_mixed`); no refit is taken out, so a
+    test referred to them is slightly conservative."""
     rng = np.random.default_rng(seed)
     E = null.torque_noise(rng, (n_draws, kin.v.shape[0]))
     eiv = null.kinematic_errors(model, kin)
-    if not eiv.shape[0]:
-        return E
-    if null.blocks is not None and eiv.shape[0] > 1:
-        return E + block_mixed(eiv, null.blocks, n_draws, rng)
-    return E + eiv[np.arange(n_draws) % eiv.shape[0]]
+    return E + block_mixed(eiv, null.blocks, n_draws, rng) if eiv.shape[0] else E
 
 
 def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None,

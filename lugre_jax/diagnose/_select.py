@@ -317,11 +317,11 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     """The floor of an inverse model: the torque noise and what the kinematics' noise brings through
     the fitted model (errors in variables), both from the data; and the null model that simulates
     them."""
-    from ._calibrate import null_model
+    from ._calibrate import centred_draws, null_model
 
     rec, cond, base, kin = prep.rec, prep.cond, prep.base, prep.kin
     scales = M.data_scales(rec)
-    null = dataclasses.replace(null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws), blocks=split.blocks)
+    null = null_model(prep.rec_in, cond, prep.path, cfg.kinematic_draws, split.blocks)
     d = null.kinematic_errors(base, kin, centred=False)
     # the systematic part (the draws' mean) is what a correct model's residual keeps in expectation
     eiv_bias = np.where(split.keep, -d.mean(axis=0), 0.0)
@@ -341,8 +341,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     # kinematics' errors bring through the fitted model (the same draws the candidates' test uses)
     kin_noise = 0.0
     if d.shape[0] > 1 and np.any(split.rows):
-        dc = d - d.mean(axis=0)
-        kin_noise = float(np.sqrt(np.mean(dc[:, split.rows] ** 2) * d.shape[0] / (d.shape[0] - 1)))
+        kin_noise = float(np.sqrt(np.mean(centred_draws(d)[:, split.rows] ** 2)))
     # the simulated kinematic errors can be larger than the recording's (a velocity column whose
     # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
     # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
