@@ -34,6 +34,11 @@ def _hermite(y0, k0, y1, k1, h, s):
     return tuple(a * p + (b * h) * kp + c * q + (d * h) * kq for p, kp, q, kq in zip(y0, k0, y1, k1))
 
 
+# Samples per block of a trajectory (solve_lanewise): lanes wait for each other at a block's end,
+# and a step writes by selects over the whole block (docs/performance.md)
+BLOCK = 32
+
+
 def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     """``(ys (b, n, 8), result (b,), steps (b,))`` at the samples ``i/sample_hz`` for a batched
     ``system`` (every array leaf with a leading lane axis ``b``); never raises. With ``sample_fn``
@@ -43,8 +48,8 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     Written at the level of the batch, not vmapped: under ``vmap`` a ``while_loop`` with a per-lane
     condition selects between the old and the new value of its whole carry on every iteration,
     output buffer included. Here the loop's condition is one scalar (some lane still running), a
-    finished lane steps no further (its step is zero and writes nothing) and only the samples a
-    step crosses are written."""
+    finished lane steps no further (its step is zero and writes nothing) and a step writes only
+    the samples it crosses, within a block of ``BLOCK`` samples."""
     tab = stepping.solver.tableau
     order = 5
     i_end = end_stage(tab)
@@ -92,13 +97,14 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     rhs = eqx.filter_vmap(lambda s_, ti, yi: rates(ti, yi, s_))
     jumps = eqx.filter_vmap(lambda s_: jnp.atleast_1d(s_.reference.jump_times()))(system)  # (b, k)
     k_rows = per_step + 1  # samples a step of about dtmax can cross
-    lanes = jnp.arange(b)
 
-    def cond(carry):
-        return jnp.any(carry[-1])
-
-    def body(carry):
-        t, y, k0, h_try, buf, steps, ok, running = carry
+    def advance(state, stop_index=None):
+        """One step attempt of every running lane (with ``stop_index``: whose solution does not
+        yet reach that sample; a step does not pass it): the new state and the attempted step
+        ``(t, h, y, k0, y1, k_end, first, last, accept)`` (samples ``first..last`` lie in
+        ``(t, t + h]``)."""
+        t, y, k0, h_try, steps, ok, running = state
+        active = running if stop_index is None else running & (_reached(t) < stop_index)
         nxt = jnp.min(jnp.where(jumps > t[:, None], jumps, jnp.inf), axis=1)
         h = jnp.minimum(h_try, dtmax)
         # land on the next discontinuity and on the end (a step that would stop just short of
@@ -108,66 +114,103 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
         end = t + 1.01 * h >= t_final
         h = jnp.where(end, t_final - t, h)
         land = land & (nxt <= t_final)
-        h = jnp.where(running, h, 0.0)
+        capped = jnp.zeros_like(end)
+        if stop_index is not None:
+            # and stop at sample ``stop_index`` (the block's last), so that a block's steps write
+            # only its own samples
+            t_stop = stop_index * h_sample
+            capped = (t + h > t_stop) & ~end
+            h = jnp.where(capped, t_stop - t, h)
+        h = jnp.where(active, h, 0.0)
         y1, k1, k_end, ratio = attempt(system, t, y, k0, h, land)
         finite = jnp.isfinite(ratio)
-        accept = running & (ratio <= 1.0) & finite
-        t1 = jnp.where(end, t_final, t + h)
-        # samples in (t, t1], cubic Hermite from the step's end values and slopes
-        first = jnp.floor(t * sample_hz + 1e-7).astype(jnp.int32) + 1
-        last = jnp.floor(t1 * sample_hz + 1e-7).astype(jnp.int32)
-        inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
-        if sample_fn is None:
-            # every sample the step crosses, all lanes, in one scatter into the flattened buffer
-            # (one scatter per row costs more than the rows' updates)
-            i = first[:, None] + jnp.arange(k_rows)[None, :]
-            s = jnp.clip((i * h_sample - t[:, None]) * inv_h[:, None], 0.0, 1.0)
-            col = lambda a: a[:, None]  # noqa: E731
-            interp = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)),
-                              tuple(map(col, k_end)), col(h), s)
-            take = accept[:, None] & (i <= last[:, None])
-            # a sample not taken goes out of range (dropped), each to its own index: all indices unique
-            idx = jnp.where(take, lanes[:, None] * n + i, b * n + jnp.arange(b * k_rows).reshape(b, k_rows)).reshape(-1)
-            flat = buf.reshape(b * n, N_STATES)
-            buf = flat.at[idx].set(jnp.stack(interp, axis=-1).reshape(-1, N_STATES), mode="drop",
-                                   unique_indices=True).reshape(b, n, N_STATES)
-        else:
-            for r in range(k_rows):
-                i = first + r
-                s = jnp.clip((i * h_sample - t) * inv_h, 0.0, 1.0)
-                interp = _hermite(y, k0, y1, k_end, h, s)
-                take = accept & (i <= last)
-                val = per_sample(system, i, i * h_sample, interp)
-                buf = jax.tree.map(lambda a, v: a + jnp.where(take.reshape(take.shape + (1,) * (v.ndim - 1)), v, 0.0),
-                                   buf, val)
+        accept = active & (ratio <= 1.0) & finite
+        t1 = jnp.where(end, t_final, t + h if stop_index is None else jnp.where(capped, t_stop, t + h))
+        seg = (t, h, y, k0, y1, k_end, _reached(t) + 1, _reached(t1), accept)
         factor = jnp.where(finite, 0.9 * jnp.maximum(ratio, 1e-10) ** (-1.0 / order), 0.2)
-        h_new = jnp.where(running, h * jnp.clip(factor, 0.2, 5.0), h_try)
-        # a step cut short to land on a jump keeps the proposal it was cut from
-        h_new = jnp.where(accept & land, jnp.maximum(h_new, h_try), h_new)
-        collapsed = running & (h_new < 1e-12 * max(t_final, 1.0))
+        h_new = jnp.where(active, h * jnp.clip(factor, 0.2, 5.0), h_try)
+        # a step cut short to land on a jump or the block's end keeps the proposal it was cut from
+        h_new = jnp.where(accept & (land | capped), jnp.maximum(h_new, h_try), h_new)
+        collapsed = active & (h_new < 1e-12 * max(t_final, 1.0))
         t = jnp.where(accept, t1, t)
         y = tuple(jnp.where(accept, u, v) for u, v in zip(y1, y))
         k0 = tuple(jnp.where(accept, u, v) for u, v in zip(k1, k0))
-        steps = steps + running
+        steps = steps + active
         ok = ok & ~collapsed
         running = ok & (t < t_final) & (steps < stepping.max_steps)
-        return t, y, k0, h_new, buf, steps, ok, running
+        return (t, y, k0, h_new, steps, ok, running), seg
+
+    def _reached(t):
+        # index of the last sample at or before t
+        return jnp.floor(t * sample_hz + 1e-7).astype(jnp.int32)
+
+    def interpolate(seg, i):
+        """The step ``seg`` at sample indices ``i`` ((b,) or (b, m)): values (8 of ``i``'s shape)
+        and which of them the accepted step covers."""
+        t, h, y, k0, y1, k_end, first, last, accept = seg
+        col = (lambda a: a[:, None]) if i.ndim == 2 else (lambda a: a)  # noqa: E731
+        inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
+        s = jnp.clip((i * h_sample - col(t)) * col(inv_h), 0.0, 1.0)
+        vals = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)), tuple(map(col, k_end)),
+                        col(h), s)
+        take = col(accept) & (i >= col(first)) & (i <= col(last))
+        return vals, take
 
     y0 = split(y0_all)
     zeros = jnp.zeros((b,), y0_all.dtype)
-    if sample_fn is None:
-        buf = jnp.zeros((b, n, N_STATES), dtype=y0_all.dtype).at[:, 0].set(y0_all)
-    else:
-        per_sample = eqx.filter_vmap(lambda s_, i, ti, yi: sample_fn(sample(s_, i, ti, yi)))
-        buf = per_sample(system, jnp.zeros((b,), jnp.int32), zeros, y0)  # sample 0
     h0 = jnp.full((b,), min(stepping.dt0, dtmax), y0_all.dtype)
-    init = (zeros, y0, rhs(system, zeros, y0), h0, buf, jnp.zeros((b,), jnp.int32), jnp.ones((b,), bool),
-            jnp.full((b,), t_final > 0))
-    t, y, _, _, buf, steps, ok, _ = jax.lax.while_loop(cond, body, init)
-    finished = ok & (t >= t_final)
+    state0 = (zeros, y0, rhs(system, zeros, y0), h0, jnp.zeros((b,), jnp.int32), jnp.ones((b,), bool),
+              jnp.full((b,), t_final > 0))
+
     if sample_fn is None:
+        # The samples in blocks of BLOCK: a scan over the blocks, within each a loop stepping every
+        # lane until it reaches the block's last sample, each step writing the samples it covers by
+        # selects into the block (a scatter into the whole buffer, XLA:CPU's serial loop, costs
+        # more than the steps). The lanes wait for each other only at a block's end.
+        m = BLOCK
+        n_blocks = max(1, -(-(n - 1) // m))
+        offsets = jnp.arange(m, dtype=jnp.int32)[None, :]
+
+        def block_fn(state, j):
+            i = 1 + j * m + offsets
+            stop = jnp.minimum(j * m + m, n - 1)
+
+            def body(c):
+                st, buf = c
+                st, seg = advance(st, stop)
+                vals, take = interpolate(seg, i)
+                return st, tuple(jnp.where(take, v, old) for v, old in zip(vals, buf))
+
+            buf = tuple(jnp.zeros((b, m), y0_all.dtype) for _ in range(N_STATES))
+            state, buf = jax.lax.while_loop(lambda c: jnp.any(c[0][-1] & (_reached(c[0][0]) < stop)), body,
+                                            (state, buf))
+            return state, jnp.stack(buf, axis=-1)
+
+        state, blocks = jax.lax.scan(block_fn, state0, jnp.arange(n_blocks, dtype=jnp.int32))
+        ys = jnp.moveaxis(blocks, 0, 1).reshape(b, n_blocks * m, N_STATES)[:, : n - 1]
+        buf = jnp.concatenate([y0_all[:, None, :], ys], axis=1)
+        t, y, _, _, steps, ok, _ = state
+        finished = ok & (t >= t_final)
         finite = jnp.all(jnp.isfinite(buf), axis=(1, 2))
     else:
+        per_sample = eqx.filter_vmap(lambda s_, i, ti, yi: sample_fn(sample(s_, i, ti, yi)))
+        acc0 = per_sample(system, jnp.zeros((b,), jnp.int32), zeros, y0)  # sample 0
+
+        def body(carry):
+            st, acc = carry
+            # no block ends to stop at: the steps differ from a trajectory's by the solver's error
+            st, seg = advance(st)
+            for r in range(k_rows):
+                i = seg[6] + r
+                vals, take = interpolate(seg, i)
+                val = per_sample(system, i, i * h_sample, tuple(vals))
+                acc = jax.tree.map(lambda a, v: a + jnp.where(take.reshape(take.shape + (1,) * (v.ndim - 1)), v, 0.0),
+                                   acc, val)
+            return st, acc
+
+        state, buf = jax.lax.while_loop(lambda c: jnp.any(c[0][-1]), body, (state0, acc0))
+        t, y, _, _, steps, ok, _ = state
+        finished = ok & (t >= t_final)
         # a state that blew up makes the error estimate non-finite: the lane stops there and
         # fails unless its final state is finite
         finite = jnp.all(jnp.stack([jnp.isfinite(c) for c in y]), axis=0)

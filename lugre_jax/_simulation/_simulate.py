@@ -25,6 +25,19 @@ from ._system import N_STATES, System, sample, signals, split
 _SHARD_MIN_EVALS = 4e6
 
 
+# An adaptive step costs about ten times a fixed step's evaluation per stage (error estimate, step
+# control, interpolated samples; docs/performance.md): it counts so many fixed-step evaluations
+_ADAPTIVE_EVAL_WEIGHT = 10
+
+
+def _work(stepping: AbstractStepping, n: int, sample_hz: float) -> int:
+    """One lane's solve in fixed-step right-hand-side evaluations: a fixed step's exact count; an
+    adaptive stepping's at least, at its largest step (``dtmax``) throughout, six stages a step."""
+    if isinstance(stepping, FIXED_STEPPINGS):
+        return rhs_evals(stepping, n, sample_hz)
+    return _ADAPTIVE_EVAL_WEIGHT * 6 * int(np.ceil((n - 1) / sample_hz / stepping.dtmax))
+
+
 def _sample_grid(duration_s: float, sample_hz: float) -> int:
     if not (np.isfinite(duration_s) and duration_s > 0):
         raise ValueError(f"duration_s must be a positive number of seconds, got {duration_s!r}")
@@ -119,9 +132,9 @@ _jit_one = array_jit(lambda args: (_solve_lanewise_one if isinstance(args[3], La
 
 
 def default_stepping(batched: bool) -> AbstractStepping:
-    """:func:`simulate`'s stepping when none is given: :class:`Adaptive`, batched or not.
-    :class:`LaneAdaptive` is as accurate per lane but not faster on XLA:CPU (docs/performance.md),
-    and works in forward mode only."""
+    """:func:`simulate`'s stepping when none is given: :class:`Adaptive`, batched or not (reverse
+    mode works through it). :class:`LaneAdaptive` is faster on batches at the accuracy of a careful
+    scipy loop (docs/performance.md) but works in forward mode only."""
     return Adaptive()
 
 
@@ -182,8 +195,7 @@ def simulate(
     b = split[2]
     shard = lanes.shard
     if shard is None:
-        shard = len(jax.local_devices()) > 1 and isinstance(stepping, FIXED_STEPPINGS) and \
-            b * rhs_evals(stepping, n, sample_hz) >= _SHARD_MIN_EVALS
+        shard = len(jax.local_devices()) > 1 and b * _work(stepping, n, sample_hz) >= _SHARD_MIN_EVALS
     key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
     # a lane's stored samples and working arrays (the solution's columns, a step's stages)
     lane_bytes = 8 * n * (N_STATES + 8) + 8 * 64 * N_STATES
