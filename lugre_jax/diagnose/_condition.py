@@ -169,7 +169,9 @@ class Conditioning:
     (polynomial ``order``, 3 or 5); ``accel_noise`` and ``velocity_noise_after``: per-sample noise std of the
     conditioned acceleration and velocity; ``accel_noise_torque``: what ``accel_noise`` means in
     torque for the inertia used to choose the window; ``unresolved_fraction``: share of samples
-    where the kinematics are not resolved at this smoothing (left out of fit, validation and tests).
+    where the kinematics are not resolved at this smoothing (left out of fit, validation and tests);
+    ``blend``: the acceleration is ``a_W + blend*(a_W - a_2W-1)``, the smoothing bias extrapolated
+    from the change between the windows W and 2W-1 (:func:`smoothing_blend`; 0: ``a_W`` alone).
     """
 
     torque_noise: float
@@ -187,6 +189,7 @@ class Conditioning:
     velocity_measured: bool = True
     position_measured: bool = True
     order: int = 3
+    blend: float = 0.0
 
     def to_json(self) -> dict:
         return dataclasses.asdict(self)
@@ -353,9 +356,10 @@ def _inverse_residual_ms(v, a, torque, keep) -> float:
     return min(sse for _, _, sse in stribeck_ls_grid([a, np.sign(v), v, np.ones_like(v)], v, y, V)) / y.size
 
 
-def conditioned_kinematics(t, position, velocity, source: str, W: int, order: int = 3):
+def conditioned_kinematics(t, position, velocity, source: str, W: int, order: int = 3, blend: float = 0.0):
     """(velocity, acceleration, bristle path) conditioned from ``source`` (``velocity`` or
-    ``position``) with a Savitzky-Golay window ``W`` of polynomial order ``order``.
+    ``position``) with a Savitzky-Golay window ``W`` of polynomial order ``order``; with ``blend``
+    the acceleration is ``a_W + blend*(a_W - a_2W-1)`` (:class:`Conditioning`).
 
     The bristles follow the position path. A coarse encoder jerks z by sigma0*q at every step (see
     docs/diagnosis.md), and smoothing the quantised position makes the path wiggle; so the path is
@@ -372,6 +376,9 @@ def conditioned_kinematics(t, position, velocity, source: str, W: int, order: in
     else:
         v = savgol_filter(position, W, order, deriv=1, delta=dt)
         a = savgol_filter(position, W, order, deriv=2, delta=dt)
+    if blend:
+        x, dv = (velocity, 0) if source == "velocity" else (position, 1)
+        a = a + blend * (a - savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=dt))
     pos = np.asarray(position, float)
     iv = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
     n_lp = max(1, int(4.0 / dt)) | 1
@@ -421,7 +428,7 @@ def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0)
     def build(p, v_in):
         if cond.source == "recording":
             return v_in, derive_kinematics(t, v_in), p
-        v, a, th = conditioned_kinematics(t, p, v_in, cond.source, cond.window, cond.order)
+        v, a, th = conditioned_kinematics(t, p, v_in, cond.source, cond.window, cond.order, cond.blend)
         return v, a, (p if path == "measured" else th)
 
     return build(pos_syn, vel_syn), build(pos_ref, vel_ref)
@@ -452,3 +459,24 @@ def unresolved_transients(velocity, sv: float, pad: int = 4) -> np.ndarray:
     dev = np.abs(v - savgol_filter(v, 5, 3))
     bad = dev > max(4.0 * sv, 3e-3 * V)
     return maximum_filter1d(bad.astype(np.int8), 2 * pad + 1) > 0
+
+
+def smoothing_blend(rec_in, crec, cond: Conditioning, J: float, residual, train, val) -> float:
+    """The share of ``a_W - a_2W-1`` to add to the conditioned acceleration, from the torque.
+
+    A Savitzky-Golay derivative's bias grows with its window, so the true acceleration is about
+    ``a_W + beta*(a_W - a_2W-1)``; the baseline's residual then holds ``J*beta*(a_W - a_2W-1)``.
+    ``beta`` is that column's least-squares coefficient on the ``train`` samples of ``residual``
+    (torque less the baseline fitted to ``a_W``), used only where it lowers the residual's mean
+    square on the held-out ``val`` samples; 0 otherwise, or when the data are used as loaded."""
+    if cond.source == "recording" or 2 * cond.window - 1 >= rec_in.n // 2:
+        return 0.0
+    a2 = conditioned_kinematics(rec_in.time, rec_in.position, rec_in.velocity, cond.source,
+                                2 * cond.window - 1, cond.order)[1]
+    col = float(J) * (np.asarray(crec.acceleration, float) - a2)
+    r = np.asarray(residual, float)
+    den = float(np.sum(col[train] ** 2))
+    if not (den > 0 and np.any(val)):
+        return 0.0
+    beta = float(np.sum(r[train] * col[train])) / den
+    return beta if np.mean((r - beta * col)[val] ** 2) < np.mean(r[val] ** 2) else 0.0

@@ -211,7 +211,7 @@ class Floor:
 def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
     fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
-    from ._condition import condition, forget_after
+    from ._condition import condition, conditioned_kinematics, forget_after, smoothing_blend
 
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
@@ -233,12 +233,9 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
                                     max(float(rough.friction.Fs), float(rough.friction.Fc)), cond.torque_noise, cfg)
             unresolved_in = unresolved
             unresolved = forget_after(unresolved_in, crec.position, forget)
-        kin = M.kinematics_of(crec)
         split = _split(crec, cond, unresolved, cfg)
         w = split.w
-        paths = {"complementary" if cond.source != "recording" else "measured": kin}
-        if cond.source != "recording" and cond.position_measured:
-            paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, np.asarray(rec.position)))
+        paths = _paths(rec, crec, cond)
         base, info, k_path = fit_baseline(crec, list(paths.values()), w, M.data_scales(crec), friction,
                                           fit_offset, params, noise=cond.torque_noise)
         if forget is not None and isinstance(base.friction, LuGre):
@@ -276,8 +273,34 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         crec, cond, unresolved = crec2, cond2, unresolved2
     if rechosen is not None:
         info["window_rechosen_from"] = rechosen
+    # the smoothing bias the chosen window leaves, extrapolated from the next window where the
+    # held-out blocks confirm it (_condition.smoothing_blend); the baseline is then fitted again
+    r = (np.asarray(crec.torque) - M.predict(base, kin)) * split.keep
+    blend = smoothing_blend(rec, crec, cond, float(base.J), r, split.w > 0, split.val)
+    if blend:
+        a = conditioned_kinematics(rec.time, rec.position, rec.velocity, cond.source, cond.window, cond.order,
+                                   blend)[1]
+        crec = eqx.tree_at(lambda r_: r_.acceleration, crec, a)
+        cond = dataclasses.replace(cond, blend=blend)
+        paths = _paths(rec, crec, cond)
+        base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
+                                            fit_offset, params, noise=cond.torque_noise)
+        info = {**info, **info_b}
+        path = list(paths)[k_path]
+        kin = paths[path]
+        info["bristle_path"] = path
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k), split
+
+
+def _paths(rec, crec, cond) -> dict:
+    """The bristle paths a baseline fit chooses between: the conditioned recording's own
+    (complementary, or as measured when used as loaded) and, with a measured position beside
+    conditioned derivatives, the measured position."""
+    paths = {"complementary" if cond.source != "recording" else "measured": M.kinematics_of(crec)}
+    if cond.source != "recording" and cond.position_measured:
+        paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, np.asarray(rec.position)))
+    return paths
 
 
 def bristle_memory(x_pre: float, f_max: float, torque_noise: float, cfg) -> float:
