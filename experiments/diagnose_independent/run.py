@@ -117,6 +117,11 @@ KEEN = T.Plant(J=0.18, Fc=0.8, Fs=1.3, vs=0.08, sigma2=1.8, sigma0=250.0, sigma1
 MODEST = T.Plant(J=0.15, Fc=0.7, Fs=0.95, vs=0.1, sigma2=1.2, sigma0=140.0, sigma1=1.0)
 FEATHER = T.Plant(J=0.025, Fc=0.3, Fs=0.45, vs=0.06, sigma2=0.5, sigma0=70.0, sigma1=0.5)
 BULKY = T.Plant(J=0.5, Fc=2.0, Fs=2.9, vs=0.14, sigma2=2.2, sigma0=300.0, sigma1=2.2)
+# plants of the calib8 study only (no earlier study used them; all passive): a mid-weight joint with a
+# deep, narrow dip, a light one with stiff bristles, a heavy one with a shallow, wide dip
+TAUT = T.Plant(J=0.2, Fc=0.9, Fs=1.5, vs=0.05, sigma2=1.6, sigma0=220.0, sigma1=1.4)
+WIRY = T.Plant(J=0.04, Fc=0.4, Fs=0.6, vs=0.08, sigma2=0.7, sigma0=260.0, sigma1=0.7)
+PORTLY = T.Plant(J=0.4, Fc=1.6, Fs=2.0, vs=0.16, sigma2=1.9, sigma0=170.0, sigma1=1.9)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -134,7 +139,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "keen": (KEEN, T.VelocityPIController(kp=11.0, ki=67.0)),
           "modest": (MODEST, T.VelocityPIController(kp=9.0, ki=55.0)),
           "feather": (FEATHER, T.VelocityPIController(kp=1.6, ki=9.5)),
-          "bulky": (BULKY, T.VelocityPIController(kp=31.0, ki=185.0))}
+          "bulky": (BULKY, T.VelocityPIController(kp=31.0, ki=185.0)),
+          "taut": (TAUT, T.VelocityPIController(kp=12.5, ki=75.0)),
+          "wiry": (WIRY, T.VelocityPIController(kp=2.5, ki=15.0)),
+          "portly": (PORTLY, T.VelocityPIController(kp=25.0, ki=150.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -154,7 +162,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "keen": T.PositionPIDController.tuned(0.18, 3.0, tf=0.003),
         "modest": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003),
         "feather": T.PositionPIDController.tuned(0.025, 3.5, tf=0.002),
-        "bulky": T.PositionPIDController.tuned(0.5, 2.5, tf=0.005)}
+        "bulky": T.PositionPIDController.tuned(0.5, 2.5, tf=0.005),
+        "taut": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003),
+        "wiry": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002),
+        "portly": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005)}
 
 
 def controller_of(job):
@@ -669,6 +680,52 @@ def fresh8_settings():
             for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
 
 
+# calib8's excitations: the six kinds with parameters no earlier set used
+CALIB8_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.04, 0.15, 0.55, 2.0, 3.6), "dwell": 3.5 if i % 2 else 2.8,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.7 + 0.5 * (i % 3), "f0": 0.05, "f1": 1.1, "duration": 40.0,
+                             "bias": 0.35 + 0.5 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.4 + 0.7 * (i % 2), "f0": 0.06, "f1": 0.85 + 0.35 * (i % 3),
+                            "n": 10 + 2 * (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.2 + 2.6 * (i % 3), "frequency": 0.13 + 0.06 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.0, -3.5, 1.5, -2.5, 3.0) if i % 2 else (-3.0, 2.0, -1.5, 3.0, -2.0, 1.5),
+                                 "move_time": 1.3 + 0.5 * (i % 2), "dwell": 2.0, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.2, 0.75, 2.3, 4.4), "dwell": 2.3, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib8_settings(n: int = 40):
+    """An eighth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds with other parameters x both loops x the three sensor sets, on three
+    plants no earlier set used (TAUT, WIRY, PORTLY), 190-850 Hz, torque noise 0.045-0.085 N*m, white
+    in half the rows and AR(1) of coefficient 0.45 or 0.6 in the other half, velocity noise
+    0.002-0.004 deg/s, quantisation 0.0007-0.0014 deg; seeds 11000 + i."""
+    return _effect_free_set("calib8", CALIB8_EXCITATIONS, ["taut", "wiry", "portly"],
+                            [(True, True), (True, False), (False, True)], [190.0, 310.0, 450.0, 630.0, 850.0],
+                            [0.065, 0.045, 0.085], [0.0, 0.45, 0.0, 0.6], [0.002, 0.004], [0.0007, 0.0014],
+                            11000, n, loops=("pi", "pid"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 3))
+
+
+# fresh9: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F9_FS = {"a": 280.0, "b": 350.0, "c": 310.0, "d": 540.0, "e": 400.0, "f": 260.0, "g": 370.0, "h": 320.0, "i": 290.0}
+_F9_RECIPES = {k: r[:4] + (_F9_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F9_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.7},
+              "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] + 1.5},
+              "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
+
+
+def fresh9_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (11200 + k), with the gravity's phase, the drift's sign and the
+    ripple's period and phase changed."""
+    return [_recipe_job(f"fresh9_effect{k:02d}_{eid}_{r}", r, 11200 + k,
+                        [(eid, _F9_VARIED.get(eid, dict)(dict(kw)))], eid, _F9_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 # fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F6_FS = {"a": 320.0, "b": 360.0, "c": 260.0, "d": 600.0, "e": 420.0, "f": 200.0, "g": 380.0, "h": 300.0, "i": 240.0}
@@ -870,6 +927,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh5": fresh5_settings, "calib4": calib4_settings, "fresh6": fresh6_settings,
             "calib5": calib5_settings, "outside2": outside2_settings, "calib6": calib6_settings,
             "fresh7": fresh7_settings, "calib7": calib7_settings, "fresh8": fresh8_settings,
+            "calib8": calib8_settings, "fresh9": fresh9_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1025,7 +1083,7 @@ def run_one(job, top_k, cache=None):
 
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
                "outside2", "calib6", "fresh7", "calib7",
-               "fresh8")
+               "fresh8", "calib8", "fresh9")
 
 
 def main():
