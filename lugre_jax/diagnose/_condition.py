@@ -377,13 +377,19 @@ def conditioned_kinematics(t, position, velocity, source: str, W: int, order: in
         v = savgol_filter(position, W, order, deriv=1, delta=dt)
         a = savgol_filter(position, W, order, deriv=2, delta=dt)
     if blend:
-        x, dv = (velocity, 0) if source == "velocity" else (position, 1)
-        a = a + blend * (a - savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=dt))
+        a = a + blend * (a - wider_acceleration(t, position, velocity, source, W, order))
     pos = np.asarray(position, float)
     iv = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
     n_lp = max(1, int(4.0 / dt)) | 1
     th = iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
     return v, a, th
+
+
+def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 3) -> np.ndarray:
+    """The acceleration :func:`conditioned_kinematics` gives at the window ``2W-1`` (no blend, no
+    bristle path): the reference the smoothing bias at ``W`` is measured against."""
+    x, dv = (velocity, 0) if source == "velocity" else (position, 1)
+    return savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=float(np.median(np.diff(np.asarray(t, float)))))
 
 
 def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0):
@@ -471,8 +477,7 @@ def smoothing_blend(rec_in, crec, cond: Conditioning, J: float, residual, train,
     square on the held-out ``val`` samples; 0 otherwise, or when the data are used as loaded."""
     if cond.source == "recording" or 2 * cond.window - 1 >= rec_in.n // 2:
         return 0.0
-    a2 = conditioned_kinematics(rec_in.time, rec_in.position, rec_in.velocity, cond.source,
-                                2 * cond.window - 1, cond.order)[1]
+    a2 = wider_acceleration(rec_in.time, rec_in.position, rec_in.velocity, cond.source, cond.window, cond.order)
     col = float(J) * (np.asarray(crec.acceleration, float) - a2)
     r = np.asarray(residual, float)
     den = float(np.sum(col[train] ** 2))

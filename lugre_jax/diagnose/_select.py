@@ -384,11 +384,10 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by)
     nuisance = [eiv_bias]
     if cond.source != "recording" and 2 * cond.window - 1 < rec.n // 2:
-        from ._condition import conditioned_kinematics
+        from ._condition import wider_acceleration
 
         rin = prep.rec_in
-        a2 = conditioned_kinematics(rin.time, rin.position, rin.velocity, cond.source, 2 * cond.window - 1,
-                                    cond.order)[1]
+        a2 = wider_acceleration(rin.time, rin.position, rin.velocity, cond.source, cond.window, cond.order)
         nuisance.append(np.where(split.keep, float(base.J) * (a_m - a2), 0.0))
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
