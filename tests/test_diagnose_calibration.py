@@ -365,3 +365,41 @@ def test_smoothing_blend_recovers_the_acceleration_a_window_smooths_away():
     a_0 = conditioned_kinematics(t, pos, None, "position", W, blend=beta0)[1]
     # what the blend moves is at most a tenth of the noise's size
     assert float(np.sqrt(np.mean((J * (a_0 - a_w)) ** 2))) < 0.1 * 0.05
+
+
+def test_held_out_confirmation_bounds_a_step_family_wise():
+    """A step refits up to ``top_k`` candidates and names the first whose held-out test passes, each
+    at ``alpha_confirm = alpha/3/top_k``. On pure AR(1) noise, with candidates whose shapes (five
+    smooth columns each) are fitted on the training blocks, the share of steps that confirm any of
+    them stays within ``alpha/3`` (three Monte Carlo standard errors over 600 steps); confirming
+    each at ``alpha/3`` would exceed that bound."""
+    from scipy.signal import lfilter
+
+    from lugre_jax.diagnose import DiagnoseConfig
+    from lugre_jax.diagnose._calibrate import held_out_p
+
+    cfg = DiagnoseConfig()
+    rng = np.random.default_rng(7)
+    n, reps, k = 3000, 600, cfg.top_k
+    t = np.linspace(0.0, 1.0, n)
+    blocks = np.arange(n) // 100
+    val = blocks % 5 == 4
+    train = ~val
+    any_confirm, any_uncorrected = 0, 0
+    for _ in range(reps):
+        r0 = lfilter([1.0], [1.0, -0.5], rng.standard_normal(n))
+        ps = []
+        for _ in range(k):
+            f = rng.uniform(1.0, 40.0, 5)
+            X = np.sin(2 * np.pi * f[None, :] * t[:, None] + rng.uniform(0, 6.3, 5))
+            beta = np.linalg.lstsq(X[train], r0[train], rcond=None)[0]
+            ps.append(held_out_p(r0, r0 - X @ beta, blocks, val))
+        any_confirm += min(ps) < cfg.alpha_confirm
+        any_uncorrected += min(ps) < cfg.alpha_name
+    rate = any_confirm / reps
+    se = np.sqrt(cfg.alpha_name * (1 - cfg.alpha_name) / reps)
+    assert rate <= cfg.alpha_name + 3 * se, (rate, any_uncorrected / reps)
+    assert any_uncorrected / reps > cfg.alpha_name + 3 * se
+    assert cfg.alpha_confirm == pytest.approx(cfg.alpha / 3 / cfg.top_k)
+    with pytest.raises(ValueError, match="top_k: expected at least 1"):
+        DiagnoseConfig(top_k=0)

@@ -33,6 +33,11 @@ class DiagnoseConfig:
     - ``max_effects`` (3): greedy steps; a fourth effect at the concealed level is beyond what the
       studies can show.
     - ``top_k`` (4): significant candidates refitted jointly per step (the refits dominate the cost).
+      A step names the first of them whose held-out test passes, so each is confirmed at
+      ``alpha_name/top_k`` (``alpha_confirm``, Bonferroni over the tries): the chance that a step
+      confirms a candidate that adds nothing stays within ``alpha_name`` even where the simulated
+      null misses structure the baseline leaves (a plant outside the baseline's model class), since
+      the held-out test does not rest on that null.
     - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
     - ``identifiability_z`` (3.0): a named effect's key parameter must be this many standard errors
       from its no-effect value in the joint fit (a candidate the excitation cannot determine is not
@@ -75,6 +80,8 @@ class DiagnoseConfig:
             raise ValueError(f"DiagnoseConfig.null_draws: expected at least {math.floor(3.0 / self.alpha)} at "
                              f"alpha {self.alpha:g} (p-values step by 1/(null_draws + 1), which must be below "
                              f"alpha/3), got {self.null_draws}")
+        if self.top_k < 1:
+            raise ValueError(f"DiagnoseConfig.top_k: expected at least 1, got {self.top_k}")
         if self.kinematic_draws < 1:
             raise ValueError(f"DiagnoseConfig.kinematic_draws: expected at least 1, got {self.kinematic_draws}")
         if self.block_s is not None and not self.block_s > 0:
@@ -92,6 +99,10 @@ class DiagnoseConfig:
     @property
     def alpha_name(self) -> float:
         return self.alpha / 3.0
+
+    @property
+    def alpha_confirm(self) -> float:
+        return self.alpha_name / self.top_k
 
     @property
     def alpha_attribute(self) -> float:

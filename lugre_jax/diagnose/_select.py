@@ -9,7 +9,8 @@
 4. :func:`_select`: greedy forward selection; at each step every candidate's first-order gain is
    tested against null draws simulated for this recording (min-P, a third of alpha); the most
    significant candidates are refitted jointly with the current model, and the first that is
-   plausible, identifiable and lowers the held-out error significantly is accepted;
+   plausible, identifiable and lowers the held-out error significantly (Bonferroni over the
+   refitted: ``DiagnoseConfig.alpha_confirm``) is accepted;
 5. :func:`_attribute`: what no candidate explains is attributed to a term library (the last third
    of alpha, :mod:`._attribute`);
 6. :func:`_report`: the typed :class:`~._report.Diagnosis` (REPORT.json).
@@ -446,8 +447,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
     are refitted jointly with the current model, and the first that is plausible, identifiable and
-    lowers the held-out error (cross-validated over the block phases, and on the fixed phase) is
-    accepted. Stops when no candidate is significant or none of the significant ones holds up."""
+    lowers the held-out error (cross-validated over the block phases, and on the fixed phase; at
+    ``cfg.alpha_confirm``) is accepted. Stops when no candidate is significant or none of the significant ones holds up."""
     from tqdm.auto import tqdm
 
     from ._calibrate import test_candidates
@@ -503,7 +504,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
                 p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
                          if np.all(np.isfinite(r1_cv)) else 1.0)
-                if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_name):
+                if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_confirm):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
                            f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
             k1 = len(space.specs) if not frozen else prep.k + sum(
@@ -520,6 +521,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
             if why is None:
                 break  # the most significant candidate that holds up is this step's
         log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
+                    "alpha_held_out": cfg.alpha_confirm,
                     "tests": test.to_json(),
                     "joint_refits": [{k: t[k] for k in ("name", "p_family", "delta_bic", "p_validation",
                                                          "validation_rmse_nm", "validation_rmse_before_nm",
