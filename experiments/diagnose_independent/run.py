@@ -122,6 +122,11 @@ BULKY = T.Plant(J=0.5, Fc=2.0, Fs=2.9, vs=0.14, sigma2=2.2, sigma0=300.0, sigma1
 TAUT = T.Plant(J=0.2, Fc=0.9, Fs=1.5, vs=0.05, sigma2=1.6, sigma0=220.0, sigma1=1.4)
 WIRY = T.Plant(J=0.04, Fc=0.4, Fs=0.6, vs=0.08, sigma2=0.7, sigma0=260.0, sigma1=0.7)
 PORTLY = T.Plant(J=0.4, Fc=1.6, Fs=2.0, vs=0.16, sigma2=1.9, sigma0=170.0, sigma1=1.9)
+# plants of the calib9 and outside4 studies only (no earlier study used them; all passive): a heavy
+# joint with a mid dip, a light one with stiff bristles, a mid-weight one with a deep dip
+BRAWNY = T.Plant(J=0.35, Fc=1.4, Fs=1.9, vs=0.11, sigma2=1.7, sigma0=190.0, sigma1=1.3)
+SPRY = T.Plant(J=0.05, Fc=0.38, Fs=0.58, vs=0.065, sigma2=0.75, sigma0=200.0, sigma1=0.65)
+STURDY = T.Plant(J=0.22, Fc=1.0, Fs=1.45, vs=0.075, sigma2=1.5, sigma0=280.0, sigma1=1.7)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -142,7 +147,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "bulky": (BULKY, T.VelocityPIController(kp=31.0, ki=185.0)),
           "taut": (TAUT, T.VelocityPIController(kp=12.5, ki=75.0)),
           "wiry": (WIRY, T.VelocityPIController(kp=2.5, ki=15.0)),
-          "portly": (PORTLY, T.VelocityPIController(kp=25.0, ki=150.0))}
+          "portly": (PORTLY, T.VelocityPIController(kp=25.0, ki=150.0)),
+          "brawny": (BRAWNY, T.VelocityPIController(kp=22.0, ki=130.0)),
+          "spry": (SPRY, T.VelocityPIController(kp=3.1, ki=19.0)),
+          "sturdy": (STURDY, T.VelocityPIController(kp=13.7, ki=82.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -165,7 +173,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "bulky": T.PositionPIDController.tuned(0.5, 2.5, tf=0.005),
         "taut": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003),
         "wiry": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002),
-        "portly": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005)}
+        "portly": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
+        "brawny": T.PositionPIDController.tuned(0.35, 2.5, tf=0.005),
+        "spry": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002),
+        "sturdy": T.PositionPIDController.tuned(0.22, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -877,6 +888,81 @@ def outside3_settings():
     return _outside_set("outside3_", OUTSIDE3_ROWS, _OUT3_RECIPES, 11300)
 
 
+# calib9's excitations: the six kinds with parameters no earlier set used
+CALIB9_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.045, 0.17, 0.6, 1.8, 3.9), "dwell": 3.2 if i % 2 else 2.6,
+                            "transition": 0.25, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.6 * (i % 3), "f0": 0.055, "f1": 1.15, "duration": 41.0,
+                             "bias": 0.4 + 0.6 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.3 + 0.8 * (i % 2), "f0": 0.065, "f1": 0.9 + 0.4 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 41.0},
+    "position_sine": lambda i: {"amplitude": 2.4 + 2.8 * (i % 3), "frequency": 0.14 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -3.0, 1.0, -2.0, 3.5) if i % 2 else (-2.5, 3.0, -2.0, 2.5, -1.5, 1.0),
+                                 "move_time": 1.2 + 0.6 * (i % 2), "dwell": 2.1, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.055, 0.18, 0.8, 2.1, 4.0), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib9_settings(n: int = 40):
+    """A ninth effect-free set (issues #30 and #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three
+    plants no earlier set used (BRAWNY, SPRY, STURDY), 200-870 Hz, torque noise 0.05-0.09 N*m, white
+    in half the rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise
+    0.0025-0.0045 deg/s, quantisation 0.0008-0.0012 deg; seeds 11400 + i."""
+    return _effect_free_set("calib9", CALIB9_EXCITATIONS, ["brawny", "spry", "sturdy"],
+                            [(True, True), (True, False), (False, True)], [200.0, 330.0, 470.0, 660.0, 870.0],
+                            [0.07, 0.05, 0.09], [0.0, 0.5, 0.0, 0.65], [0.0025, 0.0045], [0.0008, 0.0012],
+                            11400, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=3, tn_rule=(2, 4))
+
+
+# fresh10: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F10_FS = {"a": 295.0, "b": 365.0, "c": 285.0, "d": 505.0, "e": 415.0, "f": 245.0, "g": 385.0, "h": 335.0,
+           "i": 275.0}
+_F10_RECIPES = {k: r[:4] + (_F10_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F10_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.4},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.05 * kw["period"], "phase": kw["phase"] - 0.6}}
+
+
+def fresh10_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (11500 + k), with the gravity's phase, the asymmetry's sign and
+    the ripple's period and phase changed."""
+    return [_recipe_job(f"fresh10_effect{k:02d}_{eid}_{r}", r, 11500 + k,
+                        [(eid, _F10_VARIED.get(eid, dict)(dict(kw)))], eid, _F10_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
+# outside4: outside3's rows on calib9's plants, at other excitations, rates, loops and seeds
+_OUT4_RECIPES = {
+    "a": ("spry", "pi", "multisine", {"amplitude": 2.3, "f0": 0.055, "f1": 1.8, "n": 11, "duration": 46.0},
+          540.0, 0.055, 0.0, 0.003, 0.0009, True, True),
+    "b": ("brawny", "pid", "point_to_point", {"amplitudes": (3.5, -3.0, 4.0, -2.0, -2.5, 2.5), "move_time": 1.4,
+                                             "dwell": 2.5, "repeats": 2}, 430.0, 0.08, 0.0, 0.004, 0.0009, True, True),
+    "c": ("spry", "pi", "staircase", {"speeds": (0.04, 0.15, 0.75, 2.6, 6.0, 8.5), "dwell": 3.6,
+                                     "transition": 0.4, "repeats": 1}, 340.0, 0.05, 0.0, 0.003, 0.0011, True, True),
+    "d": ("sturdy", "pid", "sine_sweep", {"amplitude": 3.0, "f0": 0.055, "f1": 1.45, "duration": 50.0, "bias": 0.6},
+          390.0, 0.06, 0.5, 0.0, 0.0009, True, False),
+    "e": ("brawny", "pi", "multisine", {"amplitude": 2.0, "f0": 0.05, "f1": 1.6, "n": 10, "duration": 46.0},
+          500.0, 0.08, 0.0, 0.004, 0.0, False, True),
+    "f": ("sturdy", "pid", "point_to_point", {"amplitudes": (-3.0, 4.0, -4.5, 2.0, 4.5, -2.0), "move_time": 1.3,
+                                             "dwell": 2.7, "repeats": 2}, 350.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("brawny", "pid_nff", "point_to_point", {"amplitudes": (3.5, -4.0, 2.5, -3.5, 2.0, 1.5), "move_time": 1.6,
+                                                 "dwell": 2.8, "repeats": 2}, 310.0, 0.08, 0.0, 0.004, 0.0009, True, True),
+    "h": ("spry", "pi", "staircase", {"speeds": (0.035, 0.13, 0.5, 1.7, 4.2), "dwell": 4.4, "transition": 0.4,
+                                     "repeats": 1}, 210.0, 0.05, 0.5, 0.003, 0.0009, True, True),
+}
+
+
+def outside4_settings():
+    """A fourth outside set (issue #31), fixed and committed before its first run: outside3's rows
+    (the four effects outside the candidates, two recordings each) on calib9's plants, at
+    excitations, rates, loops and seeds (11600 + k) no earlier set used."""
+    return _outside_set("outside4_", OUTSIDE3_ROWS, _OUT4_RECIPES, 11600)
+
+
 def outside_settings():
     """Effects outside the eight candidates (issue #31) at the concealed level, two recordings each
     on different plants, loops and excitations; ``expected`` is ``unexplained`` and
@@ -962,6 +1048,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib5": calib5_settings, "outside2": outside2_settings, "calib6": calib6_settings,
             "fresh7": fresh7_settings, "calib7": calib7_settings, "fresh8": fresh8_settings,
             "calib8": calib8_settings, "fresh9": fresh9_settings, "outside3": outside3_settings,
+            "calib9": calib9_settings, "fresh10": fresh10_settings, "outside4": outside4_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1117,7 +1204,7 @@ def run_one(job, top_k, cache=None):
 
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
                "outside2", "calib6", "fresh7", "calib7",
-               "fresh8", "calib8", "fresh9", "outside3")
+               "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4")
 
 
 def main():
