@@ -127,6 +127,11 @@ PORTLY = T.Plant(J=0.4, Fc=1.6, Fs=2.0, vs=0.16, sigma2=1.9, sigma0=170.0, sigma
 BRAWNY = T.Plant(J=0.35, Fc=1.4, Fs=1.9, vs=0.11, sigma2=1.7, sigma0=190.0, sigma1=1.3)
 SPRY = T.Plant(J=0.05, Fc=0.38, Fs=0.58, vs=0.065, sigma2=0.75, sigma0=200.0, sigma1=0.65)
 STURDY = T.Plant(J=0.22, Fc=1.0, Fs=1.45, vs=0.075, sigma2=1.5, sigma0=280.0, sigma1=1.7)
+# plants of the calib10 and outside5 studies only (no earlier study used them; all passive): a
+# light joint with a wide dip, a heavy one with stiff bristles, a mid-weight one with a shallow dip
+LITHE = T.Plant(J=0.07, Fc=0.42, Fs=0.62, vs=0.12, sigma2=0.85, sigma0=130.0, sigma1=0.75)
+HULKING = T.Plant(J=0.55, Fc=2.2, Fs=2.8, vs=0.09, sigma2=2.4, sigma0=320.0, sigma1=2.4)
+STEADY = T.Plant(J=0.16, Fc=0.75, Fs=1.0, vs=0.07, sigma2=1.3, sigma0=160.0, sigma1=1.1)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -150,7 +155,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "portly": (PORTLY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "brawny": (BRAWNY, T.VelocityPIController(kp=22.0, ki=130.0)),
           "spry": (SPRY, T.VelocityPIController(kp=3.1, ki=19.0)),
-          "sturdy": (STURDY, T.VelocityPIController(kp=13.7, ki=82.0))}
+          "sturdy": (STURDY, T.VelocityPIController(kp=13.7, ki=82.0)),
+          "lithe": (LITHE, T.VelocityPIController(kp=4.3, ki=26.0)),
+          "hulking": (HULKING, T.VelocityPIController(kp=34.0, ki=205.0)),
+          "steady": (STEADY, T.VelocityPIController(kp=10.0, ki=60.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -176,7 +184,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "portly": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
         "brawny": T.PositionPIDController.tuned(0.35, 2.5, tf=0.005),
         "spry": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002),
-        "sturdy": T.PositionPIDController.tuned(0.22, 3.0, tf=0.003)}
+        "sturdy": T.PositionPIDController.tuned(0.22, 3.0, tf=0.003),
+        "lithe": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
+        "hulking": T.PositionPIDController.tuned(0.55, 2.5, tf=0.005),
+        "steady": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -963,6 +974,87 @@ def outside4_settings():
     return _outside_set("outside4_", OUTSIDE3_ROWS, _OUT4_RECIPES, 11600)
 
 
+# calib10's excitations: the six kinds with parameters no earlier set used
+CALIB10_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.035, 0.13, 0.5, 1.9, 3.3), "dwell": 3.0 if i % 2 else 2.7,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.55 * (i % 3), "f0": 0.05, "f1": 1.25, "duration": 43.0,
+                             "bias": 0.45 + 0.55 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.5 + 0.6 * (i % 2), "f0": 0.06, "f1": 0.95 + 0.35 * (i % 3),
+                            "n": 10 + 3 * (i % 2), "duration": 43.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.5 * (i % 3), "frequency": 0.12 + 0.06 * (i % 2),
+                                "duration": 35.0},
+    "point_to_point": lambda i: {"amplitudes": (3.0, -2.0, 1.5, -3.5, 2.0) if i % 2 else (-2.0, 2.5, -3.0, 1.5, -1.0, 2.0),
+                                 "move_time": 1.25 + 0.55 * (i % 2), "dwell": 2.3, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.06, 0.21, 0.7, 2.2, 4.1), "dwell": 2.6, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib10_settings(n: int = 40):
+    """A tenth effect-free set (issues #30 and #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three
+    plants no earlier set used (LITHE, HULKING, STEADY), 210-880 Hz, torque noise 0.045-0.085 N*m,
+    white in half the rows and AR(1) of coefficient 0.45 or 0.6 in the other half, velocity noise
+    0.002-0.004 deg/s, quantisation 0.0007-0.0013 deg; seeds 11700 + i."""
+    return _effect_free_set("calib10", CALIB10_EXCITATIONS, ["lithe", "hulking", "steady"],
+                            [(True, True), (True, False), (False, True)], [210.0, 340.0, 490.0, 640.0, 880.0],
+                            [0.065, 0.045, 0.085], [0.0, 0.45, 0.0, 0.6], [0.002, 0.004], [0.0007, 0.0013],
+                            11700, n, loops=("pi", "pid"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 5))
+
+
+# fresh11: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F11_FS = {"a": 265.0, "b": 385.0, "c": 305.0, "d": 560.0, "e": 425.0, "f": 275.0, "g": 355.0, "h": 305.0,
+           "i": 315.0}
+_F11_RECIPES = {k: r[:4] + (_F11_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+_F11_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.1},
+               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 0.9},
+               "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
+
+
+def fresh11_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (11800 + k), with the gravity's phase, the drift's sign and the
+    ripple's period and phase changed."""
+    return [_recipe_job(f"fresh11_effect{k:02d}_{eid}_{r}", r, 11800 + k,
+                        [(eid, _F11_VARIED.get(eid, dict)(dict(kw)))], eid, _F11_RECIPES)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
+# outside5: outside3's rows on calib10's plants, at other excitations, rates, loops and seeds
+_OUT5_RECIPES = {
+    "a": ("lithe", "pi", "multisine", {"amplitude": 2.4, "f0": 0.05, "f1": 1.85, "n": 12, "duration": 47.0},
+          580.0, 0.06, 0.0, 0.003, 0.0009, True, True),
+    "b": ("hulking", "pid", "point_to_point", {"amplitudes": (2.5, -3.5, 4.0, -2.5, -2.0, 3.0), "move_time": 1.45,
+                                              "dwell": 2.6, "repeats": 2}, 410.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("lithe", "pi", "staircase", {"speeds": (0.04, 0.16, 0.8, 2.7, 6.2, 8.8), "dwell": 3.7,
+                                      "transition": 0.4, "repeats": 1}, 330.0, 0.05, 0.0, 0.003, 0.0011, True, True),
+    "d": ("steady", "pid", "sine_sweep", {"amplitude": 3.1, "f0": 0.05, "f1": 1.4, "duration": 51.0, "bias": 0.55},
+          400.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("hulking", "pi", "multisine", {"amplitude": 2.2, "f0": 0.055, "f1": 1.65, "n": 11, "duration": 47.0},
+          510.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("steady", "pid", "point_to_point", {"amplitudes": (-2.0, 4.5, -3.5, 2.5, 4.0, -3.0), "move_time": 1.35,
+                                             "dwell": 2.6, "repeats": 2}, 360.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("hulking", "pid_nff", "point_to_point", {"amplitudes": (3.0, -4.5, 2.0, -3.0, 2.5, 1.5), "move_time": 1.65,
+                                                  "dwell": 2.7, "repeats": 2}, 320.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("lithe", "pi", "staircase", {"speeds": (0.04, 0.14, 0.55, 1.8, 4.4), "dwell": 4.2, "transition": 0.4,
+                                      "repeats": 1}, 220.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+# outside3's rows; the lag of row b and the torque-dependent friction of row e smaller, so that on
+# HULKING their peaks stay below the per-sample noise (outside3's sizes give 1.09 and 1.1 of it)
+_OUT5_SMALLER = {"b": {"T": 0.0008}, "e": {"mu": 0.0095}}
+OUTSIDE5_ROWS = [(r[0], r[1], r[2] | _OUT5_SMALLER.get(r[0], {}), r[3]) for r in OUTSIDE3_ROWS]
+
+
+def outside5_settings():
+    """A fifth outside set (issue #31), fixed and committed before its first run: outside3's rows
+    (the four effects outside the candidates, two recordings each; rows b and e smaller) on calib10's plants, at
+    excitations, rates, loops and seeds (11900 + k) no earlier set used."""
+    return _outside_set("outside5_", OUTSIDE5_ROWS, _OUT5_RECIPES, 11900)
+
+
 def outside_settings():
     """Effects outside the eight candidates (issue #31) at the concealed level, two recordings each
     on different plants, loops and excitations; ``expected`` is ``unexplained`` and
@@ -1049,6 +1141,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh7": fresh7_settings, "calib7": calib7_settings, "fresh8": fresh8_settings,
             "calib8": calib8_settings, "fresh9": fresh9_settings, "outside3": outside3_settings,
             "calib9": calib9_settings, "fresh10": fresh10_settings, "outside4": outside4_settings,
+            "calib10": calib10_settings, "fresh11": fresh11_settings, "outside5": outside5_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1204,7 +1297,8 @@ def run_one(job, top_k, cache=None):
 
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
                "outside2", "calib6", "fresh7", "calib7",
-               "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4")
+               "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
+               "calib10", "fresh11", "outside5")
 
 
 def main():
