@@ -8,9 +8,9 @@ same simulated null as the candidates (:mod:`._calibrate`; the time line's frequ
 repeated on every draw), family-wise by min-P at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
 held-out RMSE significantly (its held-out gain against the same gain on every null draw,
-:func:`held_out_gains`), and by the analytic held-out test (cluster-robust, any colour) at the
-attribution's alpha over the number of groups a step may try (the first that holds up is taken):
-a step's false confirmation stays within that alpha even where the draws miss structure. The terms are linear in their coefficients, so the
+:func:`held_out_gains`) by a share
+``sqrt(before^2 - after^2)`` of at least RESOLUTION (0.15) of the per-sample noise floor, the
+resolution at which locate claims structure. The terms are linear in their coefficients, so the
 first-order gain is the exact least-squares gain.
 """
 
@@ -22,6 +22,7 @@ import numpy as np
 
 from . import _calibrate as C
 from . import _model as M
+from ._locate import RESOLUTION
 
 
 @dataclasses.dataclass(frozen=True)
@@ -236,16 +237,17 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             new, p_held, p_analytic, pred, beta = held
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
-            # the first of the significant groups whose term holds up is taken, so the held-out
-            # confirmation is Bonferroni over the groups a step may try, on the analytic p-value
-            # (which allows misfit the null draws do not hold; the draws' p cannot resolve alpha/groups)
-            confirm = alpha / len(cands)
-            if new < after and p_held < alpha and p_analytic < confirm:
+            # the term's held-out share must reach the resolution locate claims structure at
+            # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves
+            share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))
+            least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
+            if new < after and p_held < alpha and share >= least:
                 taken = int(k), g, X, new, p_held, p_analytic, pred, beta
                 break
             tests[-1].append({"rejected": g.name,
                               "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g} "
-                                         f"(analytic {p_analytic:.3g}, to pass below {confirm:.3g})"})
+                                         f"(analytic {p_analytic:.3g}), "
+                                         f"share {share:.3g} (resolution {least:.3g})"})
         if taken is None:
             break
         k, g, X, new, p_held, p_analytic, pred, beta = taken
