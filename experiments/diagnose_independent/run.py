@@ -434,6 +434,15 @@ def _recipe_job(key, recipe, seed, spec, expected, recipes=None):
             "effects": [e for e, _ in spec], "effect_spec": spec, "seed": seed, "expected": expected}
 
 
+def _refreshed(prefix, fs, varied, seed0):
+    """fresh3's 24 effect rows (FRESH3_EFFECTS) at the recipes' rates ``fs`` (by recipe) and seeds
+    ``seed0 + k``, each effect's parameters passed through ``varied[effect id]`` where it has one."""
+    recipes = {k: r[:4] + (fs[k],) + r[5:] for k, r in _F3_RECIPES.items()}
+    return [_recipe_job(f"{prefix}_effect{k:02d}_{eid}_{r}", r, seed0 + k,
+                        [(eid, varied.get(eid, dict)(dict(kw)))], eid, recipes)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 def fresh3_settings():
     """A fresh set for the rebuilt diagnosis (issue #30), fixed and committed before its first run:
     each in-library effect at the concealed level on three recordings (24 rows) and eight
@@ -641,7 +650,6 @@ def calib6_settings(n: int = 40):
 # fresh7: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases and ripple periods changed again where that leaves their size alone
 _F7_FS = {"a": 340.0, "b": 310.0, "c": 290.0, "d": 560.0, "e": 460.0, "f": 230.0, "g": 410.0, "h": 270.0, "i": 330.0}
-_F7_RECIPES = {k: r[:4] + (_F7_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F7_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 2.9},
               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 0.6}}
 
@@ -650,9 +658,7 @@ def fresh7_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (10400 + k), with the gravity's phase and the ripple's period and
     phase changed."""
-    return [_recipe_job(f"fresh7_effect{k:02d}_{eid}_{r}", r, 10400 + k,
-                        [(eid, _F7_VARIED.get(eid, dict)(dict(kw)))], eid, _F7_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh7", _F7_FS, _F7_VARIED, 10400)
 
 
 # calib7's excitations: the six kinds with parameters no earlier set used
@@ -686,7 +692,6 @@ def calib7_settings(n: int = 40):
 # fresh8: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F8_FS = {"a": 300.0, "b": 330.0, "c": 270.0, "d": 520.0, "e": 440.0, "f": 250.0, "g": 350.0, "h": 290.0, "i": 310.0}
-_F8_RECIPES = {k: r[:4] + (_F8_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F8_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.3},
               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
               "position_ripple": lambda kw: kw | {"period": 1.1 * kw["period"], "phase": kw["phase"] - 1.2},
@@ -697,9 +702,7 @@ def fresh8_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (10800 + k), with the gravity's phase, the asymmetry's and
     drift's sign and the ripple's period and phase changed."""
-    return [_recipe_job(f"fresh8_effect{k:02d}_{eid}_{r}", r, 10800 + k,
-                        [(eid, _F8_VARIED.get(eid, dict)(dict(kw)))], eid, _F8_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh8", _F8_FS, _F8_VARIED, 10800)
 
 
 # calib8's excitations: the six kinds with parameters no earlier set used
@@ -733,7 +736,6 @@ def calib8_settings(n: int = 40):
 # fresh9: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F9_FS = {"a": 280.0, "b": 350.0, "c": 310.0, "d": 540.0, "e": 400.0, "f": 260.0, "g": 370.0, "h": 320.0, "i": 290.0}
-_F9_RECIPES = {k: r[:4] + (_F9_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F9_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.7},
               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] + 1.5},
               "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
@@ -743,15 +745,12 @@ def fresh9_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (11200 + k), with the gravity's phase, the drift's sign and the
     ripple's period and phase changed."""
-    return [_recipe_job(f"fresh9_effect{k:02d}_{eid}_{r}", r, 11200 + k,
-                        [(eid, _F9_VARIED.get(eid, dict)(dict(kw)))], eid, _F9_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh9", _F9_FS, _F9_VARIED, 11200)
 
 
 # fresh6: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F6_FS = {"a": 320.0, "b": 360.0, "c": 260.0, "d": 600.0, "e": 420.0, "f": 200.0, "g": 380.0, "h": 300.0, "i": 240.0}
-_F6_RECIPES = {k: r[:4] + (_F6_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F6_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 2.3},
               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
               "position_ripple": lambda kw: kw | {"period": 1.15 * kw["period"], "phase": kw["phase"] + 2.0},
@@ -762,15 +761,12 @@ def fresh6_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (9600 + k), with the gravity's phase, the asymmetry's and drift's
     sign and the ripple's period and phase changed."""
-    return [_recipe_job(f"fresh6_effect{k:02d}_{eid}_{r}", r, 9600 + k,
-                        [(eid, _F6_VARIED.get(eid, dict)(dict(kw)))], eid, _F6_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh6", _F6_FS, _F6_VARIED, 9600)
 
 
 # fresh5: fresh3's effect recipes at yet other sampling rates and seeds, the effects' phases, signs
 # and ripple periods changed again where that leaves their size alone
 _F5_FS = {"a": 280.0, "b": 400.0, "c": 220.0, "d": 700.0, "e": 500.0, "f": 350.0, "g": 260.0, "h": 240.0, "i": 450.0}
-_F5_RECIPES = {k: r[:4] + (_F5_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F5_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.4},
               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
               "position_ripple": lambda kw: kw | {"period": 0.8 * kw["period"], "phase": kw["phase"] + 1.1},
@@ -781,9 +777,7 @@ def fresh5_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (9100 + k), with the gravity's phase, the asymmetry's and drift's
     sign and the ripple's period and phase changed."""
-    return [_recipe_job(f"fresh5_effect{k:02d}_{eid}_{r}", r, 9100 + k,
-                        [(eid, _F5_VARIED.get(eid, dict)(dict(kw)))], eid, _F5_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh5", _F5_FS, _F5_VARIED, 9100)
 
 
 # the outside study's recordings (the same plants, other excitations, rates and loops)
@@ -889,7 +883,12 @@ _OUT3_RECIPES = {
 
 # outside2's rows; the torque-dependent friction of row f smaller, so that on TAUT its peak stays
 # below the per-sample noise (0.0034 gives 1.35 of it)
-OUTSIDE3_ROWS = [row if row[0] != "f" else (row[0], row[1], row[2] | {"mu": 0.0022}, row[3]) for row in OUTSIDE2_ROWS]
+def _resized(rows, changes):
+    """``rows`` with the effect parameters of the rows named in ``changes`` (recipe -> parameters) replaced."""
+    return [(r[0], r[1], r[2] | changes.get(r[0], {}), r[3]) for r in rows]
+
+
+OUTSIDE3_ROWS = _resized(OUTSIDE2_ROWS, {"f": {"mu": 0.0022}})
 
 
 def outside3_settings():
@@ -931,7 +930,6 @@ def calib9_settings(n: int = 40):
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F10_FS = {"a": 295.0, "b": 365.0, "c": 285.0, "d": 505.0, "e": 415.0, "f": 245.0, "g": 385.0, "h": 335.0,
            "i": 275.0}
-_F10_RECIPES = {k: r[:4] + (_F10_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F10_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.4},
                "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
                "position_ripple": lambda kw: kw | {"period": 1.05 * kw["period"], "phase": kw["phase"] - 0.6}}
@@ -941,9 +939,7 @@ def fresh10_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (11500 + k), with the gravity's phase, the asymmetry's sign and
     the ripple's period and phase changed."""
-    return [_recipe_job(f"fresh10_effect{k:02d}_{eid}_{r}", r, 11500 + k,
-                        [(eid, _F10_VARIED.get(eid, dict)(dict(kw)))], eid, _F10_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh10", _F10_FS, _F10_VARIED, 11500)
 
 
 # outside4: outside3's rows on calib9's plants, at other excitations, rates, loops and seeds
@@ -1006,7 +1002,6 @@ def calib10_settings(n: int = 40):
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F11_FS = {"a": 265.0, "b": 385.0, "c": 305.0, "d": 560.0, "e": 425.0, "f": 275.0, "g": 355.0, "h": 305.0,
            "i": 315.0}
-_F11_RECIPES = {k: r[:4] + (_F11_FS[k],) + r[5:] for k, r in _F3_RECIPES.items()}
 _F11_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.1},
                "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 0.9},
                "thermal_drift": lambda kw: kw | {"rate": -kw["rate"]}}
@@ -1016,9 +1011,7 @@ def fresh11_settings():
     """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
     other sampling rates and seeds (11800 + k), with the gravity's phase, the drift's sign and the
     ripple's period and phase changed."""
-    return [_recipe_job(f"fresh11_effect{k:02d}_{eid}_{r}", r, 11800 + k,
-                        [(eid, _F11_VARIED.get(eid, dict)(dict(kw)))], eid, _F11_RECIPES)
-            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+    return _refreshed("fresh11", _F11_FS, _F11_VARIED, 11800)
 
 
 # outside5: outside3's rows on calib10's plants, at other excitations, rates, loops and seeds
@@ -1044,8 +1037,7 @@ _OUT5_RECIPES = {
 
 # outside3's rows; the lag of row b and the torque-dependent friction of row e smaller, so that on
 # HULKING their peaks stay below the per-sample noise (outside3's sizes give 1.09 and 1.1 of it)
-_OUT5_SMALLER = {"b": {"T": 0.0008}, "e": {"mu": 0.0095}}
-OUTSIDE5_ROWS = [(r[0], r[1], r[2] | _OUT5_SMALLER.get(r[0], {}), r[3]) for r in OUTSIDE3_ROWS]
+OUTSIDE5_ROWS = _resized(OUTSIDE3_ROWS, {"b": {"T": 0.0008}, "e": {"mu": 0.0095}})
 
 
 def outside5_settings():

@@ -448,7 +448,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
     are refitted jointly with the current model, and the first that is plausible, identifiable and
     lowers the held-out error (cross-validated over the block phases, and on the fixed phase; at
-    ``cfg.alpha_confirm``) is accepted. Stops when no candidate is significant or none of the significant ones holds up."""
+    ``cfg.alpha_confirm``) is accepted. Stops when no candidate is significant or none of the
+    significant ones holds up."""
     from tqdm.auto import tqdm
 
     from ._calibrate import test_candidates
