@@ -62,6 +62,20 @@ def test_lane_adaptive_reports_exhausted_steps():
     assert int(sol.result) == lj.RESULT_SOLVER_FAILED
 
 
+
+def test_lane_adaptive_flags_a_lane_that_cannot_be_solved_and_keeps_the_others():
+    """A lane whose right-hand side is NaN (Fs NaN) among good lanes: its result is not OK, the
+    good lanes' trajectories are finite and those of the same lanes solved without it."""
+    levels, dwell = STAIRS["off_grid"][:2]
+    good = [system(LANES[k], levels, dwell) for k in ("paper_like", "stiff")]
+    bad = system((0.9, float("nan"), 0.03, 150.0, 2.3, 0.9), levels, dwell)
+    sol = lj.simulate(lj.stack_systems([good[0], bad, good[1]]), 1.5, 100.0, batched=True, stepping=lj.LaneAdaptive())
+    ref = lj.simulate(lj.stack_systems(good), 1.5, 100.0, batched=True, stepping=lj.LaneAdaptive())
+    assert [int(r) for r in sol.result] == [lj.RESULT_OK, lj.RESULT_SOLVER_FAILED, lj.RESULT_OK]
+    theta = np.asarray(sol.theta)[[0, 2]]
+    assert np.all(np.isfinite(theta))
+    np.testing.assert_allclose(theta, np.asarray(ref.theta), rtol=0, atol=1e-12)
+
 def test_lane_adaptive_mean_and_mean_of_solution_match_a_tight_solve():
     # the mean steps without a trajectory's block ends, so the two take different steps: each is
     # held to a tight solve at the stepping's accuracy (rtol 1e-6 per step)

@@ -34,11 +34,6 @@ def _hermite(y0, k0, y1, k1, h, s):
     return tuple(a * p + (b * h) * kp + c * q + (d * h) * kq for p, kp, q, kq in zip(y0, k0, y1, k1))
 
 
-# Samples per block of a trajectory (solve_lanewise): lanes wait for each other at a block's end,
-# and a step writes by selects over the whole block (docs/performance.md)
-BLOCK = 32
-
-
 def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     """``(ys (b, n, 8), result (b,), steps (b,))`` at the samples ``i/sample_hz`` for a batched
     ``system`` (every array leaf with a leading lane axis ``b``); never raises. With ``sample_fn``
@@ -48,8 +43,8 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     Written at the level of the batch, not vmapped: under ``vmap`` a ``while_loop`` with a per-lane
     condition selects between the old and the new value of its whole carry on every iteration,
     output buffer included. Here the loop's condition is one scalar (some lane still running), a
-    finished lane steps no further (its step is zero and writes nothing) and a step writes only
-    the samples it crosses, within a block of ``BLOCK`` samples."""
+    finished lane steps no further (its step is zero) and a step writes a window of samples from
+    the first it crosses."""
     tab = stepping.solver.tableau
     order = 5
     i_end = end_stage(tab)
@@ -98,13 +93,11 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     jumps = eqx.filter_vmap(lambda s_: jnp.atleast_1d(s_.reference.jump_times()))(system)  # (b, k)
     k_rows = per_step + 1  # samples a step of about dtmax can cross
 
-    def advance(state, stop_index=None):
-        """One step attempt of every running lane (with ``stop_index``: whose solution does not
-        yet reach that sample; a step does not pass it): the new state and the attempted step
+    def advance(state):
+        """One step attempt of every running lane: the new state and the attempted step
         ``(t, h, y, k0, y1, k_end, first, last, accept)`` (samples ``first..last`` lie in
         ``(t, t + h]``)."""
-        t, y, k0, h_try, steps, ok, running = state
-        active = running if stop_index is None else running & (_reached(t) < stop_index)
+        t, y, k0, h_try, steps, ok, active = state
         nxt = jnp.min(jnp.where(jumps > t[:, None], jumps, jnp.inf), axis=1)
         h = jnp.minimum(h_try, dtmax)
         # land on the next discontinuity and on the end (a step that would stop just short of
@@ -114,23 +107,16 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
         end = t + 1.01 * h >= t_final
         h = jnp.where(end, t_final - t, h)
         land = land & (nxt <= t_final)
-        capped = jnp.zeros_like(end)
-        if stop_index is not None:
-            # and stop at sample ``stop_index`` (the block's last), so that a block's steps write
-            # only its own samples
-            t_stop = stop_index * h_sample
-            capped = (t + h > t_stop) & ~end
-            h = jnp.where(capped, t_stop - t, h)
         h = jnp.where(active, h, 0.0)
         y1, k1, k_end, ratio = attempt(system, t, y, k0, h, land)
         finite = jnp.isfinite(ratio)
         accept = active & (ratio <= 1.0) & finite
-        t1 = jnp.where(end, t_final, t + h if stop_index is None else jnp.where(capped, t_stop, t + h))
+        t1 = jnp.where(end, t_final, t + h)
         seg = (t, h, y, k0, y1, k_end, _reached(t) + 1, _reached(t1), accept)
         factor = jnp.where(finite, 0.9 * jnp.maximum(ratio, 1e-10) ** (-1.0 / order), 0.2)
         h_new = jnp.where(active, h * jnp.clip(factor, 0.2, 5.0), h_try)
-        # a step cut short to land on a jump or the block's end keeps the proposal it was cut from
-        h_new = jnp.where(accept & (land | capped), jnp.maximum(h_new, h_try), h_new)
+        # a step cut short to land on a jump keeps the proposal it was cut from
+        h_new = jnp.where(accept & land, jnp.maximum(h_new, h_try), h_new)
         collapsed = active & (h_new < 1e-12 * max(t_final, 1.0))
         t = jnp.where(accept, t1, t)
         y = tuple(jnp.where(accept, u, v) for u, v in zip(y1, y))
@@ -163,42 +149,42 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
               jnp.full((b,), t_final > 0))
 
     if sample_fn is None:
-        # The samples in blocks of BLOCK: a scan over the blocks, within each a loop stepping every
-        # lane until it reaches the block's last sample, each step writing the samples it covers by
-        # selects into the block (a scatter into the whole buffer, XLA:CPU's serial loop, costs
-        # more than the steps). The lanes wait for each other only at a block's end.
-        m = BLOCK
-        n_blocks = max(1, -(-(n - 1) // m))
-        offsets = jnp.arange(m, dtype=jnp.int32)[None, :]
+        # One loop, lanes never wait for each other. A step writes ``k_rows`` samples from the first
+        # it crosses as one window per lane (a dynamic_update_slice under vmap: a scatter whose
+        # cost on XLA:CPU goes by windows, not values). Rows past the step's end, and a rejected
+        # attempt's rows, are written again later: a sample's last write is the accepted step that
+        # covers it. ``k_rows`` rows of slack at the end take the last steps' windows.
+        rows = jnp.arange(k_rows, dtype=jnp.int32)[None, :]
+        write = jax.vmap(lambda bl, s_, u: jax.lax.dynamic_update_slice(bl, u, (s_ * N_STATES,)))
 
-        def block_fn(state, j):
-            i = 1 + j * m + offsets
-            stop = jnp.minimum(j * m + m, n - 1)
+        def body(c):
+            st, buf = c
+            st, seg = advance(st)
+            t, h, y, k0, y1, k_end, first = seg[:7]
+            inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
+            s_ = jnp.clip(((first[:, None] + rows) * h_sample - t[:, None]) * inv_h[:, None], 0.0, 1.0)
+            col = lambda a: a[:, None]  # noqa: E731
+            vals = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)), tuple(map(col, k_end)),
+                            col(h), s_)
+            # the barrier keeps XLA from fusing the interpolation into the scatter, which then
+            # recomputes it per written value (twice the cost, docs/performance.md)
+            first, window = jax.lax.optimization_barrier((first, jnp.stack(vals, axis=-1).reshape(b, -1)))
+            return st, write(buf, first, window)
 
-            def body(c):
-                st, buf = c
-                st, seg = advance(st, stop)
-                vals, take = interpolate(seg, i)
-                return st, tuple(jnp.where(take, v, old) for v, old in zip(vals, buf))
-
-            buf = tuple(jnp.zeros((b, m), y0_all.dtype) for _ in range(N_STATES))
-            state, buf = jax.lax.while_loop(lambda c: jnp.any(c[0][-1] & (_reached(c[0][0]) < stop)), body,
-                                            (state, buf))
-            return state, jnp.stack(buf, axis=-1)
-
-        state, blocks = jax.lax.scan(block_fn, state0, jnp.arange(n_blocks, dtype=jnp.int32))
-        ys = jnp.moveaxis(blocks, 0, 1).reshape(b, n_blocks * m, N_STATES)[:, : n - 1]
-        buf = jnp.concatenate([y0_all[:, None, :], ys], axis=1)
+        buf0 = jnp.zeros((b, (n + k_rows) * N_STATES), y0_all.dtype).at[:, :N_STATES].set(y0_all)
+        state, buf = jax.lax.while_loop(lambda c: jnp.any(c[0][-1]), body, (state0, buf0))
+        buf = buf[:, : n * N_STATES].reshape(b, n, N_STATES)
         t, y, _, _, steps, ok, _ = state
         finished = ok & (t >= t_final)
-        finite = jnp.all(jnp.isfinite(buf), axis=(1, 2))
+        # an accepted step has a finite error estimate, so finite stages and a finite interpolant:
+        # a lane that finished with a finite state wrote only finite samples
+        finite = jnp.all(jnp.stack([jnp.isfinite(c) for c in y]), axis=0)
     else:
         per_sample = eqx.filter_vmap(lambda s_, i, ti, yi: sample_fn(sample(s_, i, ti, yi)))
         acc0 = per_sample(system, jnp.zeros((b,), jnp.int32), zeros, y0)  # sample 0
 
         def body(carry):
             st, acc = carry
-            # no block ends to stop at: the steps differ from a trajectory's by the solver's error
             st, seg = advance(st)
             for r in range(k_rows):
                 i = seg[6] + r
