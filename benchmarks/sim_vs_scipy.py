@@ -1,7 +1,7 @@
 """The batched simulator against a careful user's scipy loop, at matched accuracy (issue #33's table).
 
     python benchmarks/sim_vs_scipy.py [--lanes 2000] [--scipy-lanes 20] [--tight-lanes N] [--stiff]
-                                      [--rows default,lane,bosh3,tsit5,exp,exp5]
+                                      [--rows default,default_theta,adaptive,lane,tsit2]
                                       [--out benchmarks/results/sim_vs_scipy_2000.json]
 
 The scenario: the paper's joint (J 0.128, segment 1 of Tables 1-2) under velocity PI (kp 8, ki 60),
@@ -38,6 +38,8 @@ from lugre_jax.testing import velocity_staircase
 ROOT = Path(__file__).resolve().parents[1]
 LEVELS, DWELL, DURATION, HZ = (0.02, 0.1, -0.05, 0.5), 5.0, 20.0, 100.0
 KP, KI = 8.0, 60.0
+# the positions alone (what the rows are scored on), computed where each sample is interpolated
+POSITIONS = lj.SaveAt(fn=lambda sample: sample.theta)
 
 
 def draw(lanes: int, seed: int = 0, stiff: bool = False):
@@ -73,8 +75,8 @@ def main(argv=None):
     ap.add_argument("--lanes", type=int, default=2000)
     ap.add_argument("--scipy-lanes", type=int, default=20)
     ap.add_argument("--tight-lanes", type=int, default=None, help="lanes scored against the tight solve")
-    ap.add_argument("--rows", default="default,lane,bosh3,tsit5,exp,exp5",
-                    help="batched rows to run (also: adaptive, lane, tsit2, exp2, tsit125, exp125, tsit1, exp1, "
+    ap.add_argument("--rows", default="default,default_theta,adaptive,lane,tsit2",
+                    help="batched rows to run (also: lane_theta, bosh3, tsit5, exp, exp5, exp2, tsit125, exp125, tsit1, exp1, "
                          "tsit0625, exp0625, tsit05, exp05)")
     ap.add_argument("--stiff", action="store_true", help="stiff bristles: sigma0 in [1e3, 1e4], sigma1 in [2.3, 30]")
     ap.add_argument("--out", default=None)
@@ -111,6 +113,8 @@ def main(argv=None):
                "adaptive": ("Adaptive() (Tsit5, rtol 1e-8, atol 1e-10)", lj.Adaptive()),
                "bosh3": ("FixedStep(Bosh3(), dt=0.005)", lj.FixedStep(diffrax.Bosh3(), dt=0.005)),
                "lane": ("LaneAdaptive() (Tsit5, rtol 1e-6, atol 1e-9)", lj.LaneAdaptive()),
+               "lane_theta": ("LaneAdaptive(), positions only: SaveAt(fn=theta)", lj.LaneAdaptive(), POSITIONS),
+               "default_theta": ("no stepping given, positions only: SaveAt(fn=theta)", None, POSITIONS),
                "tsit5": ("FixedStep(Tsit5(), dt=0.0025)", lj.FixedStep(diffrax.Tsit5(), dt=0.0025)),
                "exp": ("ExponentialBristle(Tsit5(), dt=0.0025)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.0025)),
                "tsit2": ("FixedStep(Tsit5(), dt=0.002)", lj.FixedStep(diffrax.Tsit5(), dt=0.002)),
@@ -127,13 +131,18 @@ def main(argv=None):
                "exp05": ("ExponentialBristle(Tsit5(), dt=0.0005)", lj.ExponentialBristle(diffrax.Tsit5(), dt=0.0005)),
                "tsit05": ("FixedStep(Tsit5(), dt=0.0005)", lj.FixedStep(diffrax.Tsit5(), dt=0.0005))}
     for key in a.rows.split(","):
-        label, stepping = choices[key]
+        label, stepping, *saveat = choices[key]
+        saveat = saveat[0] if saveat else lj.SaveAt()
+
+        def run():
+            out = lj.simulate(system, DURATION, HZ, batched=True, stepping=stepping, saveat=saveat)
+            return out, (out.theta if saveat.fn is None else out.value)
+
         t = time.perf_counter()
-        sol = lj.simulate(system, DURATION, HZ, batched=True, stepping=stepping)
-        theta = np.asarray(sol.theta)
+        sol, theta = run()
+        theta = np.asarray(theta)
         first = time.perf_counter() - t
-        wall = best_of(lambda: jax.block_until_ready(lj.simulate(system, DURATION, HZ, batched=True,
-                                                               stepping=stepping).theta), 2)
+        wall = best_of(lambda: jax.block_until_ready(run()[1]), 2)
         # a lane that blew up counts as infinitely far (never as within tolerance)
         err = np.max(np.abs(theta[picked] - tight), axis=1)
         err = np.where(np.isfinite(err) & (np.asarray(sol.result)[picked] == lj.RESULT_OK), err, np.inf)

@@ -3,7 +3,9 @@ sim_vs_scipy.py), two host devices, wall time per lane (best of 3 after compilat
 
     python benchmarks/trajectory_cost.py [--lanes 2000] [--out benchmarks/trajectory_cost.json]
 
-Rows: ``LaneAdaptive()`` returning the trajectory (a Solution: 8 states and 4 signals per sample);
+Rows: ``LaneAdaptive()`` returning the trajectory (a Solution: 8 states and 4 signals per sample),
+and only the positions (``SaveAt(fn=...)``: the function's values written where each sample is
+interpolated);
 the same steps returning one per-lane mean (``SaveAt(mean=...)``: nothing stored per sample);
 ``FixedStep(Tsit5(), dt=0.01)`` (2,000 cheap steps) returning the trajectory; and the floor of any
 trajectory: a jitted function that only writes arrays of a Solution's size and layout, sharded as
@@ -45,6 +47,8 @@ def main(argv=None):
     rows = {
         "LaneAdaptive(), trajectory": lambda: lj.simulate(system, S.DURATION, S.HZ, batched=True,
                                                           stepping=lj.LaneAdaptive()).theta,
+        "LaneAdaptive(), positions only (SaveAt(fn=...))": lambda: lj.simulate(
+            system, S.DURATION, S.HZ, batched=True, stepping=lj.LaneAdaptive(), saveat=S.POSITIONS).value,
         "LaneAdaptive(), SaveAt(mean=...)": lambda: lj.simulate(system, S.DURATION, S.HZ, batched=True,
                                                                 stepping=lj.LaneAdaptive(), saveat=mean).value,
         "FixedStep(Tsit5(), dt=0.01), trajectory": lambda: lj.simulate(

@@ -33,6 +33,7 @@ from ._simulation import (
     System as System,
     broadcast_system as broadcast_system,
     check_stepping as check_stepping,
+    default_stepping as default_stepping,
     map_lanes as map_lanes,
     simulate as simulate,
     stack_systems as stack_systems,

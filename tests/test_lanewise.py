@@ -110,3 +110,31 @@ def test_check_stepping_reports_per_lane():
     chk = lj.check_stepping(batch, duration, 100.0, lj.LaneAdaptive(), batched=True, n_lanes=3)
     assert chk.stepping.startswith("LaneAdaptive(") and chk.failed_lanes == ()
     assert len(chk.theta_deg_per_lane) == 3 and chk.theta_deg == max(chk.theta_deg_per_lane) <= POS_TOL_DEG
+
+
+def test_batched_default_is_lane_adaptive_outside_transformations_and_adaptive_under_grad():
+    """A batch of concrete arrays gets LaneAdaptive (the same numbers as passing it); a batch traced
+    under jax.grad gets Adaptive, which reverse mode works through (LaneAdaptive's loop would raise);
+    one lane gets Adaptive."""
+    import equinox as eqx
+    import jax
+    import jax.numpy as jnp
+
+    levels, dwell = STAIRS["on_grid"][:2]
+    batch = lj.stack_systems([system(LANES[k], levels, dwell) for k in ("paper_like", "stiff")])
+    default = lj.simulate(batch, 1.5, 100.0, batched=True)
+    lane = lj.simulate(batch, 1.5, 100.0, batched=True, stepping=lj.LaneAdaptive())
+    np.testing.assert_array_equal(np.asarray(default.theta), np.asarray(lane.theta))
+    assert isinstance(lj.default_stepping(True, batch), lj.LaneAdaptive)
+    assert isinstance(lj.default_stepping(False, batch), lj.Adaptive)
+
+    def loss(fs):
+        b = eqx.tree_at(lambda s: s.friction.Fs, batch, fs)
+        return jnp.sum(lj.simulate(b, 1.5, 100.0, batched=True).theta[:, -1])
+
+    g = jax.grad(loss)(jnp.asarray(batch.friction.Fs))
+    assert g.shape == (2,) and np.all(np.isfinite(np.asarray(g)))
+    with pytest.raises(Exception):
+        jax.grad(lambda fs: jnp.sum(lj.simulate(eqx.tree_at(lambda s: s.friction.Fs, batch, fs), 1.5, 100.0,
+                                                batched=True, stepping=lj.LaneAdaptive()).theta[:, -1]))(
+            jnp.asarray(batch.friction.Fs))

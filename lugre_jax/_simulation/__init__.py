@@ -11,7 +11,12 @@ from ._lanes import (
     map_lanes as map_lanes,
     stack_systems as stack_systems,
 )
-from ._simulate import SteppingCheck as SteppingCheck, check_stepping as check_stepping, simulate as simulate
+from ._simulate import (
+    SteppingCheck as SteppingCheck,
+    check_stepping as check_stepping,
+    default_stepping as default_stepping,
+    simulate as simulate,
+)
 from ._solution import (
     RESULT_NAMES as RESULT_NAMES,
     RESULT_NONFINITE as RESULT_NONFINITE,

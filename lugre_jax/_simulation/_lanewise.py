@@ -12,6 +12,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ._fixed import above, below
 from ._solution import RESULT_NONFINITE, RESULT_OK, RESULT_SOLVER_FAILED
@@ -34,11 +35,12 @@ def _hermite(y0, k0, y1, k1, h, s):
     return tuple(a * p + (b * h) * kp + c * q + (d * h) * kq for p, kp, q, kq in zip(y0, k0, y1, k1))
 
 
-def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
+def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, mean: bool = True):
     """``(ys (b, n, 8), result (b,), steps (b,))`` at the samples ``i/sample_hz`` for a batched
     ``system`` (every array leaf with a leading lane axis ``b``); never raises. With ``sample_fn``
-    (a function of one :class:`Sample`) ``ys`` is instead the per-lane mean of ``sample_fn`` over
-    the samples, accumulated where each sample is interpolated: nothing is stored per sample.
+    (a function of one :class:`Sample`) ``ys`` is instead ``sample_fn``'s values at every sample
+    (leaves ``(b, n, ...)``) or, with ``mean``, their per-lane mean, accumulated where each sample
+    is interpolated (nothing is stored per sample).
 
     Written at the level of the batch, not vmapped: under ``vmap`` a ``while_loop`` with a per-lane
     condition selects between the old and the new value of its whole carry on every iteration,
@@ -148,32 +150,50 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None):
     state0 = (zeros, y0, rhs(system, zeros, y0), h0, jnp.zeros((b,), jnp.int32), jnp.ones((b,), bool),
               jnp.full((b,), t_final > 0))
 
-    if sample_fn is None:
+    if sample_fn is None or not mean:
         # One loop, lanes never wait for each other. A step writes ``k_rows`` samples from the first
         # it crosses as one window per lane (a dynamic_update_slice under vmap: a scatter whose
         # cost on XLA:CPU goes by windows, not values). Rows past the step's end, and a rejected
         # attempt's rows, are written again later: a sample's last write is the accepted step that
-        # covers it. ``k_rows`` rows of slack at the end take the last steps' windows.
+        # covers it. ``k_rows`` rows of slack at the end take the last steps' windows. With
+        # ``sample_fn`` the window holds its values, not the states (fewer values to write).
         rows = jnp.arange(k_rows, dtype=jnp.int32)[None, :]
-        write = jax.vmap(lambda bl, s_, u: jax.lax.dynamic_update_slice(bl, u, (s_ * N_STATES,)))
+        col = lambda a: a[:, None]  # noqa: E731
+        if sample_fn is None:
+            def values(i, ti, vals):
+                return jnp.stack(vals, axis=-1)  # (b, k_rows, N_STATES)
+        else:
+            per_row = jax.vmap(lambda s_, i, ti, yi: sample_fn(sample(s_, i, ti, yi)), in_axes=(None, 0, 0, 0))
+            per_lane_rows = eqx.filter_vmap(per_row)
+
+            def values(i, ti, vals):
+                return per_lane_rows(system, i, ti, tuple(vals))
 
         def body(c):
-            st, buf = c
+            st, bufs = c
             st, seg = advance(st)
             t, h, y, k0, y1, k_end, first = seg[:7]
             inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
-            s_ = jnp.clip(((first[:, None] + rows) * h_sample - t[:, None]) * inv_h[:, None], 0.0, 1.0)
-            col = lambda a: a[:, None]  # noqa: E731
+            i = first[:, None] + rows
+            ti = i * h_sample
+            s_ = jnp.clip((ti - t[:, None]) * inv_h[:, None], 0.0, 1.0)
             vals = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)), tuple(map(col, k_end)),
                             col(h), s_)
+            leaves = [x.reshape(b, -1) for x in jax.tree.leaves(values(i, ti, vals))]
             # the barrier keeps XLA from fusing the interpolation into the scatter, which then
             # recomputes it per written value (twice the cost, docs/performance.md)
-            first, window = jax.lax.optimization_barrier((first, jnp.stack(vals, axis=-1).reshape(b, -1)))
-            return st, write(buf, first, window)
+            first, leaves = jax.lax.optimization_barrier((first, leaves))
+            return st, [jax.vmap(lambda bl, f, u, m=x.shape[1] // k_rows: jax.lax.dynamic_update_slice(bl, u, (f * m,)))(
+                buf, first, x) for buf, x in zip(bufs, leaves)]
 
-        buf0 = jnp.zeros((b, (n + k_rows) * N_STATES), y0_all.dtype).at[:, :N_STATES].set(y0_all)
-        state, buf = jax.lax.while_loop(lambda c: jnp.any(c[0][-1]), body, (state0, buf0))
-        buf = buf[:, : n * N_STATES].reshape(b, n, N_STATES)
+        v0 = y0_all[:, None, :] if sample_fn is None else values(jnp.zeros((b, 1), jnp.int32), zeros[:, None],
+                                                                 tuple(map(col, y0)))  # sample 0
+        leaves0, treedef = jax.tree.flatten(v0)
+        sizes = [max(1, int(np.prod(x.shape[2:]))) for x in leaves0]
+        bufs0 = [jnp.zeros((b, (n + k_rows) * m), x.dtype).at[:, :m].set(x.reshape(b, m)) for x, m in zip(leaves0, sizes)]
+        state, bufs = jax.lax.while_loop(lambda c: jnp.any(c[0][-1]), body, (state0, bufs0))
+        buf = jax.tree.unflatten(treedef, [bl[:, : n * m].reshape((b, n) + x.shape[2:])
+                                           for bl, m, x in zip(bufs, sizes, leaves0)])
         t, y, _, _, steps, ok, _ = state
         finished = ok & (t >= t_final)
         # an accepted step has a finite error estimate, so finite stages and a finite interpolant:
