@@ -329,6 +329,35 @@ def test_auto_sharding_only_for_enough_work():
     assert out.stdout.split() == ["1", "2", "True", "False", "1", "2"], out.stdout + out.stderr
 
 
+
+def test_implicit_solver_batches_stay_on_one_device():
+    # On two host devices a batched Kvaerno5 solve with enough work to be split by default runs on
+    # one device and succeeds (its linear solves fail inside shard_map); Lanes(shard=True) with an
+    # implicit solver is refused with one line.
+    import os
+    import subprocess
+    import sys
+
+    code = ("import lugre_jax as lj, diffrax, numpy as np\n"
+            "from lugre_jax._simulation import _lanes as L\n"
+            "lj.configure()\n"
+            "s = lj.System(friction=lj.paper_segment(1), joint=lj.Joint(J=0.128),\n"
+            "              controller=lj.VelocityPID(kp=8.0, ki=60.0), reference=lj.VelocitySteps([0.02, 0.1], dwell_s=1.0))\n"
+            "b = lj.broadcast_system(s, 150)\n"
+            "st = lj.Adaptive(diffrax.Kvaerno5(), rtol=1e-6, atol=1e-9)\n"
+            "L._CACHE.clear()\n"
+            "out = lj.simulate(b, 10.0, 100.0, batched=True, stepping=st)\n"
+            "print(next(iter(L._CACHE))[0], bool(np.all(np.asarray(out.result) == 0)))\n"
+            "try:\n"
+            "    lj.simulate(b, 10.0, 100.0, batched=True, stepping=st, lanes=lj.Lanes(shard=True))\n"
+            "except ValueError as e:\n"
+            "    print('refused' if 'implicit solver' in str(e) else e)\n"
+            "from lugre_jax._simulation import _simulate as S\n"
+            "print(150 * S._work(st, 1001, 100.0) >= S._SHARD_MIN_EVALS)\n")
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.split() == ["1", "True", "refused", "True"], out.stdout + out.stderr
+
 def _tracking(q):
     return (q.theta - q.theta_ref) ** 2
 

@@ -204,8 +204,15 @@ def simulate(
     split = split_lanes(system, *_SYSTEM_LANES)
     b = split[2]
     shard = lanes.shard
+    implicit = isinstance(stepping, Adaptive) and isinstance(stepping.solver, diffrax.AbstractImplicitSolver)
+    if shard and implicit and len(jax.local_devices()) > 1:
+        raise ValueError(f"Lanes(shard=True): an implicit solver ({type(stepping.solver).__name__}) cannot be "
+                         "split over host devices (its linear solves fail inside shard_map); expected "
+                         "Lanes(shard=None) or Lanes(shard=False)")
     if shard is None:
-        shard = len(jax.local_devices()) > 1 and b * _work(stepping, n, sample_hz) >= _SHARD_MIN_EVALS
+        # an implicit solver's linear solves (lineax) fail inside shard_map: its lanes stay on one device
+        shard = (len(jax.local_devices()) > 1 and not implicit
+                 and b * _work(stepping, n, sample_hz) >= _SHARD_MIN_EVALS)
     key = ("simulate", n, sample_hz, stepping, saveat, check_inertia)
     # a lane's stored samples and working arrays (the solution's columns, a step's stages)
     lane_bytes = 8 * n * (N_STATES + 8) + 8 * 64 * N_STATES

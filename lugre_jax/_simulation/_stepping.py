@@ -269,7 +269,8 @@ class Lanes(eqx.Module):
     """How a batched call spreads its lanes: ``chunk_size`` lanes at a time (``lax.map`` over
     ``vmap``-ed chunks, so memory stays bounded) and over host devices (``shard``: ``True`` always,
     ``False`` never, ``None`` when the call has enough work to pay for the split; see
-    docs/performance.md).
+    docs/performance.md). An implicit solver (``Adaptive(diffrax.Kvaerno5())``) is never split:
+    its linear solves fail inside ``shard_map``.
 
     ``chunk_size=None`` chooses from the device the call runs on: on a CPU 200 lanes (a step's
     working set stays in cache); on a GPU or TPU as many lanes as half its free memory holds (every
