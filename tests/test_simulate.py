@@ -299,13 +299,21 @@ def test_long_steps_interpolate_between_samples():
         lj.simulate(system, 1.0, 100.0, stepping=lj.FixedStep(dt=0.015))
 
 
-def test_auto_sharding_only_for_enough_work():
-    # shard=None splits lanes over host devices only when the call has enough right-hand-side
-    # evaluations to pay the split's fixed cost (measured ~2.5 ms); shard=True always splits.
+def _printed_on_two_devices(code: str) -> list[str]:
+    """What ``code`` prints, run in a fresh process with two XLA host devices (words)."""
     import os
     import subprocess
     import sys
 
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stdout + out.stderr
+    return out.stdout.split()
+
+
+def test_auto_sharding_only_for_enough_work():
+    # shard=None splits lanes over host devices only when the call has enough right-hand-side
+    # evaluations to pay the split's fixed cost (measured ~2.5 ms); shard=True always splits.
     code = ("import lugre_jax as lj\n"
             "from lugre_jax._simulation import _lanes as L, _simulate as S, _fixed as F\n"
             "import diffrax\nlj.configure()\n"
@@ -324,9 +332,7 @@ def test_auto_sharding_only_for_enough_work():
             "    L._CACHE.clear()\n"
             "    lj.map_lanes(lambda x: 2 * x, jnp.arange(float(b)))\n"
             "    print(next(iter(L._CACHE))[0])\n")
-    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
-    assert out.stdout.split() == ["1", "2", "True", "False", "1", "2"], out.stdout + out.stderr
+    assert _printed_on_two_devices(code) == ["1", "2", "True", "False", "1", "2"]
 
 
 
@@ -334,10 +340,6 @@ def test_implicit_solver_batches_stay_on_one_device():
     # On two host devices a batched Kvaerno5 solve with enough work to be split by default runs on
     # one device and succeeds (its linear solves fail inside shard_map); Lanes(shard=True) with an
     # implicit solver is refused with one line.
-    import os
-    import subprocess
-    import sys
-
     code = ("import lugre_jax as lj, diffrax, numpy as np\n"
             "from lugre_jax._simulation import _lanes as L\n"
             "lj.configure()\n"
@@ -354,9 +356,7 @@ def test_implicit_solver_batches_stay_on_one_device():
             "    print('refused' if 'implicit solver' in str(e) else e)\n"
             "from lugre_jax._simulation import _simulate as S\n"
             "print(150 * S._work(st, 1001, 100.0) >= S._SHARD_MIN_EVALS)\n")
-    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
-    assert out.stdout.split() == ["1", "True", "refused", "True"], out.stdout + out.stderr
+    assert _printed_on_two_devices(code) == ["1", "True", "refused", "True"]
 
 def _tracking(q):
     return (q.theta - q.theta_ref) ** 2
