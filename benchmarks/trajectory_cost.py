@@ -25,8 +25,6 @@ import numpy as np
 import lugre_jax as lj
 from _timing import best_of
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])

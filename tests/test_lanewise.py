@@ -62,7 +62,6 @@ def test_lane_adaptive_reports_exhausted_steps():
     assert int(sol.result) == lj.RESULT_SOLVER_FAILED
 
 
-
 def test_lane_adaptive_flags_a_lane_that_cannot_be_solved_and_keeps_the_others():
     """A lane whose right-hand side is NaN (Fs NaN) among good lanes: its result is not OK, the
     good lanes' trajectories are finite and those of the same lanes solved without it."""
@@ -76,9 +75,10 @@ def test_lane_adaptive_flags_a_lane_that_cannot_be_solved_and_keeps_the_others()
     assert np.all(np.isfinite(theta))
     np.testing.assert_allclose(theta, np.asarray(ref.theta), rtol=0, atol=1e-12)
 
+
 def test_lane_adaptive_mean_and_mean_of_solution_match_a_tight_solve():
-    # the mean steps without a trajectory's block ends, so the two take different steps: each is
-    # held to a tight solve at the stepping's accuracy (rtol 1e-6 per step)
+    # the mean (accumulated in the loop) and the trajectory's mean are each held to a tight solve
+    # at the stepping's accuracy (rtol 1e-6 per step)
     s = system(LANES["paper_like"], *STAIRS["off_grid"][:2])
     tight = lj.simulate(s, 2.0, 100.0, stepping=lj.Adaptive(rtol=1e-11, atol=1e-13))
     ref = float(np.mean(np.asarray(tight.theta) ** 2))

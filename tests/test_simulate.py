@@ -335,7 +335,6 @@ def test_auto_sharding_only_for_enough_work():
     assert _printed_on_two_devices(code) == ["1", "2", "True", "False", "1", "2"]
 
 
-
 def test_implicit_solver_batches_stay_on_one_device():
     # On two host devices a batched Kvaerno5 solve with enough work to be split by default runs on
     # one device and succeeds (its linear solves fail inside shard_map); Lanes(shard=True) with an
@@ -357,6 +356,7 @@ def test_implicit_solver_batches_stay_on_one_device():
             "from lugre_jax._simulation import _simulate as S\n"
             "print(150 * S._work(st, 1001, 100.0) >= S._SHARD_MIN_EVALS)\n")
     assert _printed_on_two_devices(code) == ["1", "True", "refused", "True"]
+
 
 def _tracking(q):
     return (q.theta - q.theta_ref) ** 2

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._fixed import above, below
 from ._solution import RESULT_NONFINITE, RESULT_OK, RESULT_SOLVER_FAILED
-from ._system import N_STATES, rates, sample, split
+from ._system import rates, sample, split
 
 
 def end_stage(tableau) -> int:
@@ -172,14 +172,10 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
         def body(c):
             st, bufs = c
             st, seg = advance(st)
-            t, h, y, k0, y1, k_end, first = seg[:7]
-            inv_h = 1.0 / jnp.where(h > 0, h, 1.0)
+            first = seg[6]
             i = first[:, None] + rows
-            ti = i * h_sample
-            s_ = jnp.clip((ti - t[:, None]) * inv_h[:, None], 0.0, 1.0)
-            vals = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)), tuple(map(col, k_end)),
-                            col(h), s_)
-            leaves = [x.reshape(b, -1) for x in jax.tree.leaves(values(i, ti, vals))]
+            vals, _ = interpolate(seg, i)  # rows the step does not cover are written again later
+            leaves = [x.reshape(b, -1) for x in jax.tree.leaves(values(i, i * h_sample, vals))]
             # the barrier keeps XLA from fusing the interpolation into the scatter, which then
             # recomputes it per written value (twice the cost, docs/performance.md)
             first, leaves = jax.lax.optimization_barrier((first, leaves))
