@@ -79,3 +79,36 @@ def test_cli_refusal_exit_2(tmp_path):
     assert r.returncode == 2 and "accuracy.rtol" in r.stderr and "Traceback" not in r.stderr
     assert not (tmp_path / "o").exists()
 
+
+
+def test_default_is_lane_adaptive_and_within_a_tight_solve(tmp_path):
+    """Without a "stepping" key (and no fixed solver in the scenario) every lane takes its own
+    error-controlled step: the accuracy check passes at 1e-6 of each output's scale with no
+    fallback."""
+    import lugre_jax as lj
+
+    d = copy.deepcopy(SPEC)
+    spec = spec_from_dict(d)
+    assert spec.fast == lj.LaneAdaptive()
+    res = run_sweep(spec, tmp_path / "default", progress=False, figures=False)
+    assert res.complete and res.accuracy["within"] and res.accuracy["stepping"].startswith("LaneAdaptive(")
+    for o in res.accuracy["outputs"].values():
+        assert o["max_abs_deviation"] <= 1e-6 * o["scale"]
+
+
+def test_stepping_forms():
+    import diffrax
+
+    import lugre_jax as lj
+
+    assert _spec({"solver": "bosh3", "dt": 0.01}).fast == lj.FixedStep(diffrax.Bosh3(), dt=0.01)
+    assert _spec({"solver": "tsit5"}).fast == lj.FixedStep(diffrax.Tsit5(), dt=2.5e-3)
+    assert _spec({"rtol": 1e-7}).fast == lj.LaneAdaptive(rtol=1e-7)
+    assert _spec({"solver": "dopri5", "rtol": 1e-5, "atol": 1e-8}).fast == lj.LaneAdaptive(
+        diffrax.Dopri5(), rtol=1e-5, atol=1e-8)
+    for bad, msg in (({"solver": "bosh3", "rtol": 1e-6}, r"SPEC\.stepping\.solver: expected one of tsit5, dopri5"),
+                     ({"dt": 0.01, "rtol": 1e-6}, r"^SPEC\.stepping: expected"),
+                     ({"rtol": -1.0}, r"SPEC\.stepping\.rtol: expected a positive number"),
+                     ({"solver": "euler", "dt": 0.01}, r"SPEC\.stepping\.solver: expected one of")):
+        with pytest.raises(ValueError, match=msg):
+            _spec(bad)

@@ -21,7 +21,7 @@ rank 0 waits for the others' chunk files (a shared folder) and writes the analys
 accuracy.json          the fast stepping against a tight solve on points spread over the box
                        (SPEC key ``accuracy``; also in summary.json and indices.json)
 
-Status per point: 0 solved by the fast fixed step, 1 failed it and solved by the stiff adaptive
+Status per point: 0 solved by the fast stepping, 1 failed it and solved by the stiff adaptive
 Kvaerno5, 2 failed both (its outputs are NaN in the files and it is left out of every analysis).
 """
 
@@ -354,7 +354,7 @@ def _finish(spec: SweepSpec, out: Path, X, n_chunks, computed, t_start, figures,
     seconds = time.perf_counter() - t_start
     write_json(out / "summary.json", dict(n_points=int(X.shape[0]), n_chunks=n_chunks, chunks_computed_this_run=computed,
                                           status=counts, outputs=stats, accuracy=accuracy, seconds_this_run=seconds,
-                                          status_codes={"0": "fast fixed step ok", "1": "stiff Kvaerno5 re-solve ok",
+                                          status_codes={"0": "fast stepping ok", "1": "stiff Kvaerno5 re-solve ok",
                                                         "2": "failed both; NaN outputs, left out of analyses"}))
     if figures:
         from ._plots import grid_heatmaps, tornado_plots

@@ -13,8 +13,10 @@ Schema (``?`` = optional)::
       "outputs":   ["dead_zone", "creep_amplitude", "band_fraction", "tracking_error", "stick_slip",
                     or {"metric": <one of those>, "name"?, "window"?, "band"?, "threshold"?}],
       "second_order"?: false (sobol),  "levels"?: [k per name] (grid),
-      "stepping"?: {"solver": "bosh3"|"tsit5"|..., "dt": s}   fast fixed step (default: the
-                   scenario's solver section, else Tsit5 at 2.5e-3 s),
+      "stepping"?: {"solver": "bosh3"|"tsit5"|..., "dt": s}   a fast fixed step, or
+                   {"solver"?: "tsit5"|"dopri5", "rtol": 1e-6, "atol"?: 1e-9}   each lane its own
+                   error-controlled step (LaneAdaptive; a tolerance given); default: the
+                   scenario's fixed solver section, else LaneAdaptive at its defaults,
       "fallback"?: {"rtol"?, "atol"?, "max_steps"?} | null   stiff Kvaerno5 re-solve of failed lanes,
       "chunk_size"?: points per chunk file (default 4096), "num_resamples"?: 100, "conf_level"?: 0.95,
       "accuracy"?: {"lanes"?: 8, "rtol"?: 0.01, "enforce"?: true} | null
@@ -39,7 +41,7 @@ from typing import Any
 
 import diffrax
 
-from .._simulation import Adaptive, FixedStep
+from .._simulation import Adaptive, FixedStep, LaneAdaptive
 from ..io import read_json
 from ..scenario import FIXED_SOLVERS, scenario_from_dict
 from ._metrics import METRICS, AbstractMetric
@@ -53,6 +55,8 @@ _TOP = {"scenario", "problem", "sampler", "n", "seed", "outputs", "second_order"
 
 # The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
 # window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
+# Explicit solvers with an embedded error estimate that LaneAdaptive runs.
+_LANE_SOLVERS = {"tsit5": diffrax.Tsit5, "dopri5": diffrax.Dopri5}
 STIFF_DEFAULT = dict(rtol=1e-6, atol=1e-9, max_steps=100_000)
 
 
@@ -81,7 +85,7 @@ class SweepSpec:
     n: int
     seed: int
     outputs: tuple[AbstractMetric, ...]
-    fast: FixedStep
+    fast: FixedStep | LaneAdaptive
     stiff: Adaptive | None
     chunk_size: int
     num_resamples: int
@@ -112,6 +116,31 @@ def _pos(d, key, where, default):
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
         raise ValueError(f"{where}.{key}: expected a positive number, got {v!r}")
     return float(v)
+
+
+def _fast_stepping(s, where, sample_hz) -> FixedStep | LaneAdaptive:
+    """SPEC ``stepping``: ``{"solver"?, "dt"?}`` a fixed step (dt 2.5e-3 s by default),
+    ``{"solver"?, "rtol", "atol"?}`` (a tolerance given) :class:`LaneAdaptive`."""
+    lane = isinstance(s, dict) and ("rtol" in s or "atol" in s)
+    if isinstance(s, dict) and not lane and not sorted(set(s) - {"solver", "dt"}):
+        name = s.get("solver", "tsit5")
+        if name not in FIXED_SOLVERS:
+            raise ValueError(f"{where}.solver: expected one of {', '.join(FIXED_SOLVERS)}, got {name!r}")
+        fast = FixedStep(FIXED_SOLVERS[name](), dt=_pos(s, "dt", where, 2.5e-3))
+        try:
+            fast.check(sample_hz)
+        except ValueError as e:
+            raise ValueError(f"{where}.dt: {e}") from None
+        return fast
+    if lane and not sorted(set(s) - {"solver", "rtol", "atol"}):
+        name = s.get("solver", "tsit5")
+        if name not in _LANE_SOLVERS:
+            raise ValueError(f"{where}.solver: expected one of {', '.join(_LANE_SOLVERS)} with rtol/atol, got {name!r}")
+        d = LaneAdaptive()
+        return LaneAdaptive(_LANE_SOLVERS[name](), rtol=_pos(s, "rtol", where, d.rtol), atol=_pos(s, "atol", where, d.atol))
+    raise ValueError(f"{where}: expected {{\"solver\": one of {', '.join(FIXED_SOLVERS)}, \"dt\": seconds}} (a fixed "
+                     f"step) or {{\"solver\"?: one of {', '.join(_LANE_SOLVERS)}, \"rtol\", \"atol\"?}} (each lane "
+                     f"its own adaptive step)")
 
 
 def _outputs(spec_outputs, where) -> tuple[AbstractMetric, ...]:
@@ -217,22 +246,13 @@ def spec_from_dict(d: Any, where: str = "SPEC", base_dir: FsPath | None = None) 
         raise ValueError(f"{where}.seed: expected an integer >= 0, got {seed!r}")
     outputs = _outputs(d["outputs"], f"{where}.outputs")
     if "stepping" in d:
-        s = d["stepping"]
-        if not isinstance(s, dict) or sorted(set(s) - {"solver", "dt"}):
-            raise ValueError(f"{where}.stepping: expected {{\"solver\": one of {', '.join(FIXED_SOLVERS)}, \"dt\": seconds}}")
-        name = s.get("solver", "tsit5")
-        if name not in FIXED_SOLVERS:
-            raise ValueError(f"{where}.stepping.solver: expected one of {', '.join(FIXED_SOLVERS)}, got {name!r}")
-        fast = FixedStep(FIXED_SOLVERS[name](), dt=_pos(s, "dt", f"{where}.stepping", 2.5e-3))
-        try:
-            fast.check(opts["sample_hz"])
-        except ValueError as e:
-            raise ValueError(f"{where}.stepping.dt: {e}") from None
+        fast = _fast_stepping(d["stepping"], f"{where}.stepping", opts["sample_hz"])
     elif isinstance(opts.get("stepping"), FixedStep):
         fast = opts["stepping"]
     else:
-        # A scenario solves adaptively by default; a sweep's first solve is the fast fixed step.
-        fast = FixedStep(diffrax.Tsit5())
+        # Each lane its own step: accurate on every lane without a fallback, and on stiff corners of
+        # a box faster than a fixed step that must re-solve them (docs/sweeps.md, Performance).
+        fast = LaneAdaptive()
     fb = d.get("fallback", {})
     if fb is None:
         stiff = None
