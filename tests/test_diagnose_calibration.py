@@ -370,39 +370,50 @@ def test_smoothing_blend_recovers_the_acceleration_a_window_smooths_away():
     assert float(np.sqrt(np.mean((J * (a_0 - a_w)) ** 2))) < 0.1 * 0.05
 
 
-def test_held_out_confirmation_bounds_a_step_family_wise():
-    """A step refits up to ``top_k`` candidates and names the first whose held-out test passes, each
-    at ``alpha_confirm = alpha/3/top_k``. On pure AR(1) noise, with candidates whose shapes (five
-    smooth columns each) are fitted on the training blocks, the share of steps that confirm any of
-    them stays within ``alpha/3`` (three Monte Carlo standard errors over 600 steps); confirming
-    each at ``alpha/3`` would exceed that bound."""
+def test_held_out_confirmation_holds_its_alpha_and_has_half_the_z():
+    """A step's one held-out test (``alpha_confirm = alpha``): on pure AR(1) noise, with a candidate
+    of five smooth columns fitted on the training blocks, it confirms within ``alpha`` (three Monte
+    Carlo standard errors over 600 repetitions; the cluster-robust variance holds on coloured
+    noise). With a true one-column effect, the cross-validated test's z is about half the in-sample
+    projection's (the reason it is not held at a smaller share of alpha): 0.35-0.65 of it on average."""
     from scipy.signal import lfilter
+    from scipy.stats import norm
 
     from lugre_jax.diagnose import DiagnoseConfig
     from lugre_jax.diagnose._calibrate import held_out_p
 
     cfg = DiagnoseConfig()
+    assert cfg.alpha_confirm == cfg.alpha
     rng = np.random.default_rng(7)
-    n, reps, k = 3000, 600, cfg.top_k
+    n, reps = 3000, 600
     t = np.linspace(0.0, 1.0, n)
     blocks = np.arange(n) // 100
     val = blocks % 5 == 4
     train = ~val
-    any_confirm, any_uncorrected = 0, 0
+    confirmed = 0
     for _ in range(reps):
         r0 = lfilter([1.0], [1.0, -0.5], rng.standard_normal(n))
-        ps = []
-        for _ in range(k):
-            f = rng.uniform(1.0, 40.0, 5)
-            X = np.sin(2 * np.pi * f[None, :] * t[:, None] + rng.uniform(0, 6.3, 5))
-            beta = np.linalg.lstsq(X[train], r0[train], rcond=None)[0]
-            ps.append(held_out_p(r0, r0 - X @ beta, blocks, val))
-        any_confirm += min(ps) < cfg.alpha_confirm
-        any_uncorrected += min(ps) < cfg.alpha_name
-    rate = any_confirm / reps
-    se = np.sqrt(cfg.alpha_name * (1 - cfg.alpha_name) / reps)
-    assert rate <= cfg.alpha_name + 3 * se, (rate, any_uncorrected / reps)
-    assert any_uncorrected / reps > cfg.alpha_name + 3 * se
-    assert cfg.alpha_confirm == pytest.approx(cfg.alpha / 3 / cfg.top_k)
+        f = rng.uniform(1.0, 40.0, 5)
+        X = np.sin(2 * np.pi * f[None, :] * t[:, None] + rng.uniform(0, 6.3, 5))
+        beta = np.linalg.lstsq(X[train], r0[train], rcond=None)[0]
+        confirmed += held_out_p(r0, r0 - X @ beta, blocks, val) < cfg.alpha_confirm
+    se = np.sqrt(cfg.alpha * (1 - cfg.alpha) / reps)
+    assert confirmed / reps <= cfg.alpha + 3 * se
+    # power: white noise plus a sine; in-sample z = projection / sigma on all samples (the naming
+    # test's gain is its square), held-out z from the p-value of the test as a step runs it:
+    # cross-validated, each block predicted by a fit on the other four fifths
+    x = np.sin(2 * np.pi * 7.3 * t)
+    ratios = []
+    for _ in range(200):
+        r0 = 0.25 * x + rng.standard_normal(n)
+        z_in = (x @ r0) / np.sqrt(x @ x)
+        r_cv = r0.copy()
+        for phase in range(5):
+            out = blocks % 5 == phase
+            b = (x[~out] @ r0[~out]) / (x[~out] @ x[~out])
+            r_cv[out] = r0[out] - b * x[out]
+        z_out = norm.isf(held_out_p(r0, r_cv, blocks, np.ones(n, bool)))
+        ratios.append(z_out / z_in)
+    assert 0.35 < np.mean(ratios) < 0.65, np.mean(ratios)
     with pytest.raises(ValueError, match="top_k: expected at least 1"):
         DiagnoseConfig(top_k=0)

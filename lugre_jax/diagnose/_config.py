@@ -32,12 +32,16 @@ class DiagnoseConfig:
 
     - ``max_effects`` (3): greedy steps; a fourth effect at the concealed level is beyond what the
       studies can show.
-    - ``top_k`` (4): significant candidates refitted jointly per step (the refits dominate the cost).
-      A step names the first of them whose held-out test passes, so each is confirmed at
-      ``alpha_name/top_k`` (``alpha_confirm``, Bonferroni over the tries): the chance that a step
-      confirms a candidate that adds nothing stays within ``alpha_name`` even where the simulated
-      null misses structure the baseline leaves (a plant outside the baseline's model class), since
-      the held-out test does not rest on that null.
+    - ``top_k`` (4): significant candidates refitted jointly per step (the refits dominate the cost),
+      in order of gain beyond their null mean; the first that is plausible and identifiable takes
+      the step's one held-out test, at ``alpha`` (``alpha_confirm``): cross-validated over the
+      block phases, one-sided. The false-alarm bound of a step rests on the naming test (a third
+      of ``alpha``); the held-out test only removes names, so that a finding improves held-out
+      prediction, and where the simulated null misses structure the baseline leaves (a plant
+      outside the baseline's model class) it alone bounds the chance that a step names a candidate
+      adding nothing to held-out prediction, at ``alpha`` (one test per step needs no correction
+      over tries). A held-out comparison has about half the z of the in-sample gain for the same
+      effect, so a stricter share of ``alpha`` would cost most of the power at the concealed level.
     - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
     - ``identifiability_z`` (3.0): a named effect's key parameter must be this many standard errors
       from its no-effect value in the joint fit (a candidate the excitation cannot determine is not
@@ -102,7 +106,7 @@ class DiagnoseConfig:
 
     @property
     def alpha_confirm(self) -> float:
-        return self.alpha_name / self.top_k
+        return self.alpha
 
     @property
     def alpha_attribute(self) -> float:

@@ -9,8 +9,8 @@
 4. :func:`_select`: greedy forward selection; at each step every candidate's first-order gain is
    tested against null draws simulated for this recording (min-P, a third of alpha); the most
    significant candidates are refitted jointly with the current model, and the first that is
-   plausible, identifiable and lowers the held-out error significantly (Bonferroni over the
-   refitted: ``DiagnoseConfig.alpha_confirm``) is accepted;
+   plausible and identifiable is named if it lowers the held-out error significantly (one held-out
+   test per step, at ``DiagnoseConfig.alpha_confirm``);
 5. :func:`_attribute`: what no candidate explains is attributed to a term library (the last third
    of alpha, :mod:`._attribute`);
 6. :func:`_report`: the typed :class:`~._report.Diagnosis` (REPORT.json).
@@ -446,10 +446,10 @@ def _context(prep, split, floor, model, r, loc=None) -> M.Context:
 def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
-    are refitted jointly with the current model, and the first that is plausible, identifiable and
-    lowers the held-out error (cross-validated over the block phases, and on the fixed phase; at
-    ``cfg.alpha_confirm``) is accepted. Stops when no candidate is significant or none of the
-    significant ones holds up."""
+    are refitted jointly with the current model, and the first that is plausible and identifiable is
+    held out: accepted when it lowers the held-out error (cross-validated over the block phases,
+    significantly at ``cfg.alpha_confirm``, and on the fixed phase). Stops when no candidate is
+    significant, none is plausible and identifiable, or the held-out test fails."""
     from tqdm.auto import tqdm
 
     from ._calibrate import test_candidates
@@ -476,6 +476,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
         r_cur_cv = None
         trials = []
+        held_out_tested = False
         for i in significant:
             name = test.names[i]
             start = M.JointModel(current.J, current.friction, current.offset,
@@ -508,6 +509,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_confirm):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
                            f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
+                held_out_tested = True
             k1 = len(space.specs) if not frozen else prep.k + sum(
                 len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
             sse1 = _sse(r1, w)
@@ -519,8 +521,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                            "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
                            "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
                            "identifiability_z": zmax, "rejected_because": why})
-            if why is None:
-                break  # the most significant candidate that holds up is this step's
+            if why is None or held_out_tested:
+                # one held-out test per step: the first plausible, identifiable candidate's result is
+                # the step's (so the test's alpha bounds the step without a correction over tries)
+                break
         log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
                     "alpha_held_out": cfg.alpha_confirm,
                     "tests": test.to_json(),
