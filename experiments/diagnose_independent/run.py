@@ -132,6 +132,11 @@ STURDY = T.Plant(J=0.22, Fc=1.0, Fs=1.45, vs=0.075, sigma2=1.5, sigma0=280.0, si
 LITHE = T.Plant(J=0.07, Fc=0.42, Fs=0.62, vs=0.12, sigma2=0.85, sigma0=130.0, sigma1=0.75)
 HULKING = T.Plant(J=0.55, Fc=2.2, Fs=2.8, vs=0.09, sigma2=2.4, sigma0=320.0, sigma1=2.4)
 STEADY = T.Plant(J=0.16, Fc=0.75, Fs=1.0, vs=0.07, sigma2=1.3, sigma0=160.0, sigma1=1.1)
+# plants of the calib11 study only (no earlier study used them; all passive): a light joint with a
+# deep dip and soft bristles, a heavy one with a narrow dip, a mid-weight one with stiff bristles
+NIPPY = T.Plant(J=0.09, Fc=0.5, Fs=0.8, vs=0.055, sigma2=0.9, sigma0=150.0, sigma1=0.8)
+BURLY = T.Plant(J=0.48, Fc=1.9, Fs=2.3, vs=0.045, sigma2=2.1, sigma0=240.0, sigma1=2.0)
+EVEN = T.Plant(J=0.19, Fc=0.85, Fs=1.2, vs=0.1, sigma2=1.4, sigma0=300.0, sigma1=1.5)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -158,7 +163,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "sturdy": (STURDY, T.VelocityPIController(kp=13.7, ki=82.0)),
           "lithe": (LITHE, T.VelocityPIController(kp=4.3, ki=26.0)),
           "hulking": (HULKING, T.VelocityPIController(kp=34.0, ki=205.0)),
-          "steady": (STEADY, T.VelocityPIController(kp=10.0, ki=60.0))}
+          "steady": (STEADY, T.VelocityPIController(kp=10.0, ki=60.0)),
+          "nippy": (NIPPY, T.VelocityPIController(kp=5.5, ki=33.0)),
+          "burly": (BURLY, T.VelocityPIController(kp=29.0, ki=175.0)),
+          "even": (EVEN, T.VelocityPIController(kp=12.0, ki=72.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -187,7 +195,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "sturdy": T.PositionPIDController.tuned(0.22, 3.0, tf=0.003),
         "lithe": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
         "hulking": T.PositionPIDController.tuned(0.55, 2.5, tf=0.005),
-        "steady": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003)}
+        "steady": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003),
+        "nippy": T.PositionPIDController.tuned(0.09, 3.5, tf=0.002),
+        "burly": T.PositionPIDController.tuned(0.48, 2.5, tf=0.005),
+        "even": T.PositionPIDController.tuned(0.19, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -1125,6 +1136,50 @@ CONCEALED = {
 }
 
 
+# calib11's excitations: the six kinds with parameters no earlier set used
+CALIB11_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.045, 0.15, 0.6, 1.7, 3.9), "dwell": 3.2 if i % 2 else 2.8,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.7 + 0.6 * (i % 3), "f0": 0.045, "f1": 1.4, "duration": 41.0,
+                             "bias": 0.5 + 0.5 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.3 + 0.7 * (i % 2), "f0": 0.055, "f1": 1.05 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 41.0},
+    "position_sine": lambda i: {"amplitude": 2.9 + 2.2 * (i % 3), "frequency": 0.11 + 0.07 * (i % 2),
+                                "duration": 37.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -3.0, 1.8, -2.2, 3.1) if i % 2 else (-2.6, 1.9, -1.4, 3.2, -2.1, 1.7),
+                                 "move_time": 1.35 + 0.5 * (i % 2), "dwell": 2.1, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.07, 0.24, 0.8, 2.0, 3.8), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib11_settings(n: int = 40):
+    """An eleventh effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (NIPPY, BURLY, EVEN), 230-820 Hz, torque noise 0.05-0.09 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise 0.0025-0.0045 deg/s,
+    quantisation 0.0008-0.0014 deg; seeds 12100 + i."""
+    return _effect_free_set("calib11", CALIB11_EXCITATIONS, ["nippy", "burly", "even"],
+                            [(True, True), (True, False), (False, True)], [230.0, 360.0, 470.0, 610.0, 820.0],
+                            [0.07, 0.05, 0.09], [0.0, 0.5, 0.0, 0.65], [0.0025, 0.0045], [0.0008, 0.0014],
+                            12100, n, loops=("pi", "pid"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 5))
+
+
+# fresh12: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F12_FS = {"a": 325.0, "b": 455.0, "c": 275.0, "d": 535.0, "e": 395.0, "f": 345.0, "g": 415.0, "h": 285.0,
+           "i": 365.0}
+_F12_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.7},
+               "position_ripple": lambda kw: kw | {"period": 1.15 * kw["period"], "phase": kw["phase"] - 1.3},
+               "thermal_drift": lambda kw: kw}
+
+
+def fresh12_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (12300 + k), with the gravity's phase and the ripple's period and
+    phase changed."""
+    return _refreshed("fresh12", _F12_FS, _F12_VARIED, 12300)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1134,6 +1189,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib8": calib8_settings, "fresh9": fresh9_settings, "outside3": outside3_settings,
             "calib9": calib9_settings, "fresh10": fresh10_settings, "outside4": outside4_settings,
             "calib10": calib10_settings, "fresh11": fresh11_settings, "outside5": outside5_settings,
+            "calib11": calib11_settings, "fresh12": fresh12_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1290,7 +1346,7 @@ def run_one(job, top_k, cache=None):
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
                "outside2", "calib6", "fresh7", "calib7",
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
-               "calib10", "fresh11", "outside5")
+               "calib10", "fresh11", "outside5", "calib11", "fresh12")
 
 
 def main():
