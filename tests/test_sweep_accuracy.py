@@ -112,3 +112,16 @@ def test_stepping_forms():
                      ({"solver": "euler", "dt": 0.01}, r"SPEC\.stepping\.solver: expected one of")):
         with pytest.raises(ValueError, match=msg):
             _spec(bad)
+
+
+def test_default_stepping_is_part_of_the_digest():
+    """A SPEC without "stepping" runs the default, so a folder swept under another default is not
+    resumed (its digest differs); with "stepping" the digest is the SPEC's alone."""
+    import dataclasses
+
+    import lugre_jax as lj
+
+    spec = spec_from_dict(copy.deepcopy(SPEC))
+    assert spec.digest() != dataclasses.replace(spec, fast=lj.FixedStep()).digest()
+    given = _spec({"solver": "bosh3", "dt": 0.01})
+    assert given.digest() == dataclasses.replace(given, fast=lj.FixedStep()).digest()

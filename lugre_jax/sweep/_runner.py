@@ -207,7 +207,8 @@ def _prepare(spec: SweepSpec, out: Path, X: np.ndarray, n_chunks: int, rank: int
             old = None
         if old != digest:
             raise ValueError(f"{out}: holds a sweep of a different SPEC ({_MANIFEST} spec_sha256 {str(old)[:12]}... "
-                             f"!= {digest[:12]}...); use a new --out folder or delete this one")
+                             f"!= {digest[:12]}...; a SPEC without 'stepping' counts its default stepping); use a new --out "
+                             f"folder or delete this one")
         return
     if out.exists() and any(out.iterdir()):
         raise ValueError(f"{out}: exists, is not empty and has no {_MANIFEST}; use a new --out folder")

@@ -53,10 +53,10 @@ _TOP = {"scenario", "problem", "sampler", "n", "seed", "outputs", "second_order"
         "fallback", "chunk_size", "num_resamples", "conf_level", "accuracy"}
 
 
-# The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
-# window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
 # Explicit solvers with an embedded error estimate that LaneAdaptive runs.
 _LANE_SOLVERS = {"tsit5": diffrax.Tsit5, "dopri5": diffrax.Dopri5}
+# The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
+# window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
 STIFF_DEFAULT = dict(rtol=1e-6, atol=1e-9, max_steps=100_000)
 
 
@@ -101,7 +101,10 @@ class SweepSpec:
         return tuple(m.name for m in self.outputs)
 
     def digest(self) -> str:
-        return hashlib.sha256(json.dumps(self.raw, sort_keys=True).encode()).hexdigest()
+        # a SPEC without a stepping key runs the default, which is part of what its outputs depend
+        # on: a folder swept with another default is not resumed with this one
+        raw = self.raw if "stepping" in self.raw else self.raw | {"default_stepping": self.fast.describe()}
+        return hashlib.sha256(json.dumps(raw, sort_keys=True).encode()).hexdigest()
 
 
 def _int(d, key, where, default=None, lo=1):
