@@ -80,7 +80,6 @@ def test_cli_refusal_exit_2(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
-
 def test_default_is_lane_adaptive_and_within_a_tight_solve(tmp_path):
     """Without a "stepping" key (and no fixed solver in the scenario) every lane takes its own
     error-controlled step: the accuracy check passes at 1e-6 of each output's scale with no

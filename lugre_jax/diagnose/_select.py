@@ -476,7 +476,6 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
         r_cur_cv = None
         trials = []
-        held_out_tested = False
         for i in significant:
             name = test.names[i]
             start = M.JointModel(current.J, current.friction, current.offset,
@@ -509,7 +508,6 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_confirm):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
                            f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
-                held_out_tested = True
             k1 = len(space.specs) if not frozen else prep.k + sum(
                 len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
             sse1 = _sse(r1, w)
@@ -521,9 +519,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                            "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
                            "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
                            "identifiability_z": zmax, "rejected_because": why})
-            if why is None or held_out_tested:
-                # one held-out test per step: the first plausible, identifiable candidate's result is
-                # the step's (so the test's alpha bounds the step without a correction over tries)
+            if why is None or p_val is not None:
+                # one held-out test per step (p_val is set once a candidate is held out): the first
+                # plausible, identifiable candidate's result is the step's, so the test's alpha
+                # bounds the step without a correction over tries
                 break
         log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
                     "alpha_held_out": cfg.alpha_confirm,

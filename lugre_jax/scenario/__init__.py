@@ -5,6 +5,7 @@
 from ._build import (
     ADAPTIVE_SOLVERS as ADAPTIVE_SOLVERS,
     FIXED_SOLVERS as FIXED_SOLVERS,
+    LANE_SOLVERS as LANE_SOLVERS,
     ScenarioError as ScenarioError,
     load_scenario as load_scenario,
     parse_friction as parse_friction,

@@ -207,6 +207,9 @@ FIXED_SOLVERS = {"tsit5": diffrax.Tsit5, "bosh3": diffrax.Bosh3, "heun": diffrax
                  "midpoint": diffrax.Midpoint, "dopri5": diffrax.Dopri5}
 ADAPTIVE_SOLVERS = {"kvaerno5": diffrax.Kvaerno5, "kvaerno3": diffrax.Kvaerno3, "tsit5": diffrax.Tsit5,
                     "dopri5": diffrax.Dopri5}
+# explicit with an embedded error estimate: what lugre_jax.LaneAdaptive runs (sweep SPEC "stepping"
+# with a tolerance)
+LANE_SOLVERS = {"tsit5": diffrax.Tsit5, "dopri5": diffrax.Dopri5}
 
 
 def _stepping(s: Any, sample_hz: float):

@@ -43,7 +43,7 @@ import diffrax
 
 from .._simulation import Adaptive, FixedStep, LaneAdaptive
 from ..io import read_json
-from ..scenario import FIXED_SOLVERS, scenario_from_dict
+from ..scenario import FIXED_SOLVERS, LANE_SOLVERS, scenario_from_dict
 from ._metrics import METRICS, AbstractMetric
 from ._paths import Path, parse_path
 from ._problem import check_problem
@@ -53,8 +53,6 @@ _TOP = {"scenario", "problem", "sampler", "n", "seed", "outputs", "second_order"
         "fallback", "chunk_size", "num_resamples", "conf_level", "accuracy"}
 
 
-# Explicit solvers with an embedded error estimate that LaneAdaptive runs.
-_LANE_SOLVERS = {"tsit5": diffrax.Tsit5, "dopri5": diffrax.Dopri5}
 # The stiff re-solve's defaults: looser than simulate's (1e-8/1e-10) because a metric over a
 # window, not a trajectory, is kept; tight enough that its metrics agree with the fast step's.
 STIFF_DEFAULT = dict(rtol=1e-6, atol=1e-9, max_steps=100_000)
@@ -137,12 +135,12 @@ def _fast_stepping(s, where, sample_hz) -> FixedStep | LaneAdaptive:
         return fast
     if lane and not sorted(set(s) - {"solver", "rtol", "atol"}):
         name = s.get("solver", "tsit5")
-        if name not in _LANE_SOLVERS:
-            raise ValueError(f"{where}.solver: expected one of {', '.join(_LANE_SOLVERS)} with rtol/atol, got {name!r}")
+        if name not in LANE_SOLVERS:
+            raise ValueError(f"{where}.solver: expected one of {', '.join(LANE_SOLVERS)} with rtol/atol, got {name!r}")
         d = LaneAdaptive()
-        return LaneAdaptive(_LANE_SOLVERS[name](), rtol=_pos(s, "rtol", where, d.rtol), atol=_pos(s, "atol", where, d.atol))
+        return LaneAdaptive(LANE_SOLVERS[name](), rtol=_pos(s, "rtol", where, d.rtol), atol=_pos(s, "atol", where, d.atol))
     raise ValueError(f"{where}: expected {{\"solver\": one of {', '.join(FIXED_SOLVERS)}, \"dt\": seconds}} (a fixed "
-                     f"step) or {{\"solver\"?: one of {', '.join(_LANE_SOLVERS)}, \"rtol\", \"atol\"?}} (each lane "
+                     f"step) or {{\"solver\"?: one of {', '.join(LANE_SOLVERS)}, \"rtol\", \"atol\"?}} (each lane "
                      f"its own adaptive step)")
 
 
