@@ -440,6 +440,30 @@ def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0)
     return build(pos_syn, vel_syn), build(pos_ref, vel_ref)
 
 
+def at_rest(velocity, velocity_noise: float, alpha: float, min_run: int = 1) -> np.ndarray:
+    """Samples of the dwells: runs of at least ``min_run`` samples whose conditioned velocity is not
+    told from rest at level ``alpha`` (two-sided, against its noise std ``velocity_noise``). In a
+    dwell LuGre's bristle state is set by presliding displacements too small to measure and by the
+    history before the stop, so it cannot be computed from the kinematics: a correct inverse model
+    misses the friction there by up to the breakaway level, a structured error no candidate may
+    claim. A shorter run is a passage through zero, whose path the kinematics do resolve."""
+    from scipy import ndimage, stats
+
+    v = np.abs(np.asarray(velocity, float))
+    still = v < stats.norm.isf(alpha / 2.0) * max(float(velocity_noise), 0.0)
+    if min_run > 1 and still.any():
+        # a dwell's own noise lifts alpha of its samples over the bound, in excursions of up to a
+        # window: gaps shorter than min_run between still samples are closed first
+        gaps, _ = ndimage.label(~still)
+        size = np.bincount(gaps)
+        inner = (gaps > 0) & (gaps != gaps[0]) & (gaps != gaps[-1])
+        still = still | (inner & (size[gaps] < min_run))
+        runs, _ = ndimage.label(still)
+        size = np.bincount(runs)
+        still = (runs > 0) & (size[runs] >= min_run)
+    return still
+
+
 def forget_after(mask, position, length: float) -> np.ndarray:
     """``mask`` widened forward: after each masked run, until the joint has travelled ``length``
     along its path (the bristles' memory: LuGre's z forgets its past over a few relaxation lengths

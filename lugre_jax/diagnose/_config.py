@@ -53,6 +53,12 @@ class DiagnoseConfig:
       every fifth block is held out.
     - ``at_floor`` (1.1): validation RMSE over the estimated floor at or below which the baseline
       counts as at its floor (a 10 % excess is what the floor estimate resolves).
+    - Dwells (runs of at least one conditioning window, and 5 samples, whose conditioned velocity
+      is within ``norm.isf(alpha/2)`` noise std of zero) are left out of fit, floor and tests:
+      there the bristle state is set by presliding motion below the sensors' resolution and by the
+      history before the stop, so a correct inverse model misses the friction by up to the
+      breakaway level (no number of its own: the rest test runs at ``alpha``, and a shorter run is
+      a passage through zero the smoothed kinematics resolve).
     - ``min_resolved`` (100): resolved training samples a baseline fit needs (about ten parameters).
     - ``bristle_memory_share`` (0.1): after a transient the velocity-only path cannot follow, samples
       are left out until the wrong bristle state it leaves can bring at most this share of the

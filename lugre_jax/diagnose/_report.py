@@ -42,7 +42,10 @@ class Baseline:
     ``floor_ratio`` = validation RMSE / floor, ``at_floor`` when it is at most ``AT_FLOOR`` (1.1),
     else ``shortcoming`` says why located structure may be the baseline's own misfit.
     ``conditioning``: how the kinematics were conditioned (``Conditioning.to_json()``);
-    ``unresolved_transient_fraction``: share of samples left out as unresolved transients.
+    ``unresolved_transient_fraction``: share of samples left out as unresolved (transients the
+    sampling does not resolve, and the samples at rest counted in ``at_rest_fraction``);
+    ``at_rest_fraction``: share left out because their velocity is not told from rest at ``alpha``
+    (the bristle state there is below what the sensors resolve).
     """
 
     params: dict
@@ -57,13 +60,15 @@ class Baseline:
     shortcoming: str | None
     conditioning: dict
     unresolved_transient_fraction: float
+    at_rest_fraction: float = 0.0
 
     def to_json(self) -> dict:
         return {"params": self.params, "rmse_nm": self.rmse_nm, "validation_rmse_nm": self.validation_rmse_nm,
                 "fit": self.fit, "noise_floor_nm": self.noise_floor_nm, "torque_noise_nm": self.torque_noise_nm,
                 "kinematic_noise_nm": self.kinematic_noise_nm, "floor_ratio": self.floor_ratio,
                 "at_floor": self.at_floor, "shortcoming": self.shortcoming, "conditioning": self.conditioning,
-                "unresolved_transient_fraction": self.unresolved_transient_fraction}
+                "unresolved_transient_fraction": self.unresolved_transient_fraction,
+                "at_rest_fraction": self.at_rest_fraction}
 
 
 # Keys a located region may carry, in REPORT.json's order; the last four come from the binned

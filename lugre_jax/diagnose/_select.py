@@ -169,6 +169,7 @@ class Prepared:
     base: object
     info: dict
     k: int
+    at_rest: np.ndarray | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -212,7 +213,7 @@ class Floor:
 def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
     fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
-    from ._condition import condition, conditioned_kinematics, forget_after, smoothing_blend
+    from ._condition import at_rest, condition, conditioned_kinematics, forget_after, smoothing_blend
 
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
@@ -223,6 +224,8 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
     if not 0.8 <= float(rough2.J) / max(float(rough.J), 1e-300) <= 1.25:
         rough = rough2
         crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
+    rest = at_rest(crec.velocity, cond.velocity_noise_after, cfg.alpha, max(cond.window, 5))
+    unresolved = unresolved | rest
     rechosen = None
     for second in (False, True):
         forget = None
@@ -272,6 +275,8 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
                     "excess_error_nm": float(np.sqrt(mse_old - mse_new))}
         crec, cond, unresolved = crec2, cond2, unresolved2
+        rest = at_rest(crec.velocity, cond.velocity_noise_after, cfg.alpha, max(cond.window, 5))
+        unresolved = unresolved | rest
     if rechosen is not None:
         info["window_rechosen_from"] = rechosen
     # the smoothing bias the chosen window leaves, extrapolated from the next window where the
@@ -291,7 +296,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         kin = paths[path]
         info["bristle_path"] = path
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
-    return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k), split
+    return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest), split
 
 
 def _paths(rec, crec, cond) -> dict:
@@ -331,7 +336,7 @@ def _split(rec, cond, unresolved, cfg) -> Split:
     if int(w.sum()) < cfg.min_resolved or int(val.sum()) < cfg.min_resolved // 4:
         raise ValueError(
             f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
-            f"sampling and noise ({cond.source}, window {cond.window}); expected at least "
+            f"sampling and noise and the joint moving ({cond.source}, window {cond.window}); expected at least "
             f"{cfg.min_resolved} for the fit and a quarter of that held out: a slower or smoother "
             "excitation, or a velocity sensor, is needed")
     return Split(blocks, keep, val, phase, folds, cv_mask, w, n_rev)
@@ -615,7 +620,8 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
             + ("; the torque noise's profile still rises at its longest lag (colour longer than it "
                "reaches, or the signal), so the floor may be only a lower bound"
                if cond.torque_noise_open else "")),
-        conditioning=cond.to_json(), unresolved_transient_fraction=float(prep.unresolved.mean()))
+        conditioning=cond.to_json(), unresolved_transient_fraction=float(prep.unresolved.mean()),
+        at_rest_fraction=float(prep.at_rest.mean()) if prep.at_rest is not None else 0.0)
     located = tuple(Region.from_test(x) for x in loc0["located"])
     remaining = tuple(Region.from_test(x) for x in loc_cur["located"])
     # a finding's parameters are those of the final joint model; its evidence stays that of its step

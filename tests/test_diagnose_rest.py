@@ -1,0 +1,66 @@
+"""Samples at rest are left out of the diagnosis: there the inverse model cannot know the bristle state.
+
+Reference: the independent generator (scipy LSODA) and its true friction torque. With the TRUE
+parameters, the inverse model's friction on the samples kept must match the true friction to a
+small share of the torque noise; on the samples left out at rest it misses by more than the noise
+(which is why they go: a correct model would leave structure there that no candidate may claim).
+"""
+
+import numpy as np
+import pytest
+
+from lugre_jax import testing as T
+from lugre_jax.diagnose._condition import at_rest
+from lugre_jax.diagnose._config import DiagnoseConfig
+from lugre_jax.diagnose import _model as M
+from lugre_jax.diagnose._select import _prepare
+
+
+def test_at_rest_holds_its_level_on_noise():
+    # velocity noise alone: |v| < 1.96 sd on 95 % of the samples (binomial sd 0.2 % at n 1e4)
+    rng = np.random.default_rng(3)
+    v = 0.002 * rng.standard_normal(10_000)
+    assert abs(at_rest(v, 0.002, 0.05).mean() - 0.95) < 0.01
+    # a motion ten noise std from rest is never taken for it
+    assert not at_rest(0.02 + v, 0.002, 0.05).any()
+    assert not at_rest(v, 0.0, 0.05).any()  # no noise estimate: nothing is at rest
+
+
+def test_at_rest_takes_dwells_not_passages_through_zero():
+    t = np.linspace(0.0, 4.0, 4001)
+    v = np.where(t < 1.0, 0.0, np.sin(2.0 * np.pi * (t - 1.0)))  # a 1-s dwell, then reversals
+    rest = at_rest(v, 0.01, 0.05, min_run=21)
+    assert rest[t < 0.99].all() and not rest[t > 1.01].any()
+    # a dwell's noise breaks it into runs; the gaps are closed, the reversals stay out
+    noisy = v + 0.01 * np.random.default_rng(5).standard_normal(t.size)
+    rest = at_rest(noisy, 0.01, 0.05, min_run=21)
+    assert rest[(t > 0.02) & (t < 0.98)].mean() > 0.99 and rest[t > 1.01].mean() < 0.01
+    # the reversals (7 samples each within 1.96*0.01 of zero) are flagged without the run length
+    assert at_rest(v, 0.01, 0.05)[t > 1.01].sum() >= 6 * 5
+
+
+@pytest.fixture(scope="module")
+def dwelling():
+    plant = T.Plant(J=0.15, Fc=0.7, Fs=1.1, vs=0.08, sigma2=1.2, sigma0=280.0, sigma1=1.3)
+    ctrl = T.VelocityPIController(kp=9.0, ki=54.0)
+    sens = T.Sensors(fs=260.0, torque_noise=0.07, velocity_noise=0.003, quantisation=0.0,
+                     velocity_column=True, position_column=False)
+    exc = T.PointToPoint(amplitudes=(2.4, -2.0, 1.5, -2.6), move_time=1.4, dwell=2.2, repeats=1)
+    g = T.generate(exc, [], plant, ctrl, sens, seed=404)
+    p = {f: getattr(plant, f) for f in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
+    prep, split = _prepare(g.to_recording(), DiagnoseConfig(), p | {"offset": 0.0, "friction_model": "LuGre"},
+                           "lugre", False)
+    friction = M.predict(prep.base, prep.kin) - plant.J * np.asarray(prep.kin.a)
+    err = g.true["friction_and_load"] - friction
+    return g, prep, split, err
+
+
+def test_kept_samples_carry_no_inverse_model_error(dwelling):
+    g, prep, split, err = dwelling
+    keep = split.keep > 0
+    sd = g.torque_noise_std
+    assert 0.2 < prep.at_rest.mean() < 0.8  # the dwells are there and are left out
+    # kept: the true model's friction error (smoothing of the kinematics) well below the noise
+    assert np.sqrt(np.mean(err[keep] ** 2)) < 0.1 * sd
+    # at rest: the bristle state is not resolved, the error exceeds the noise
+    assert np.sqrt(np.mean(err[prep.at_rest] ** 2)) > sd
