@@ -137,6 +137,10 @@ STEADY = T.Plant(J=0.16, Fc=0.75, Fs=1.0, vs=0.07, sigma2=1.3, sigma0=160.0, sig
 NIPPY = T.Plant(J=0.09, Fc=0.5, Fs=0.8, vs=0.055, sigma2=0.9, sigma0=150.0, sigma1=0.8)
 BURLY = T.Plant(J=0.48, Fc=1.9, Fs=2.3, vs=0.045, sigma2=2.1, sigma0=240.0, sigma1=2.0)
 EVEN = T.Plant(J=0.19, Fc=0.85, Fs=1.2, vs=0.1, sigma2=1.4, sigma0=300.0, sigma1=1.5)
+# calib12's plants
+CRISP = T.Plant(J=0.11, Fc=0.55, Fs=0.9, vs=0.065, sigma2=1.1, sigma0=210.0, sigma1=1.0)
+STOCKY = T.Plant(J=0.38, Fc=1.5, Fs=2.1, vs=0.085, sigma2=1.8, sigma0=260.0, sigma1=1.8)
+SUPPLE = T.Plant(J=0.06, Fc=0.45, Fs=0.7, vs=0.07, sigma2=0.8, sigma0=110.0, sigma1=0.7)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -166,7 +170,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "steady": (STEADY, T.VelocityPIController(kp=10.0, ki=60.0)),
           "nippy": (NIPPY, T.VelocityPIController(kp=5.5, ki=33.0)),
           "burly": (BURLY, T.VelocityPIController(kp=29.0, ki=175.0)),
-          "even": (EVEN, T.VelocityPIController(kp=12.0, ki=72.0))}
+          "even": (EVEN, T.VelocityPIController(kp=12.0, ki=72.0)),
+          "crisp": (CRISP, T.VelocityPIController(kp=6.6, ki=40.0)),
+          "stocky": (STOCKY, T.VelocityPIController(kp=23.0, ki=138.0)),
+          "supple": (SUPPLE, T.VelocityPIController(kp=3.7, ki=22.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -198,7 +205,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "steady": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003),
         "nippy": T.PositionPIDController.tuned(0.09, 3.5, tf=0.002),
         "burly": T.PositionPIDController.tuned(0.48, 2.5, tf=0.005),
-        "even": T.PositionPIDController.tuned(0.19, 3.0, tf=0.003)}
+        "even": T.PositionPIDController.tuned(0.19, 3.0, tf=0.003),
+        "crisp": T.PositionPIDController.tuned(0.11, 3.0, tf=0.003),
+        "stocky": T.PositionPIDController.tuned(0.38, 2.5, tf=0.005),
+        "supple": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002)}
 
 
 def controller_of(job):
@@ -1180,6 +1190,50 @@ def fresh12_settings():
     return _refreshed("fresh12", _F12_FS, _F12_VARIED, 12300)
 
 
+# calib12's excitations: the six kinds with parameters no earlier set used
+CALIB12_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.05, 0.16, 0.55, 1.6, 3.6), "dwell": 3.0 if i % 2 else 2.6,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.6 + 0.7 * (i % 3), "f0": 0.05, "f1": 1.3, "duration": 39.0,
+                             "bias": 0.6 + 0.4 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.8 * (i % 2), "f0": 0.06, "f1": 1.0 + 0.35 * (i % 3),
+                            "n": 10 + 3 * (i % 2), "duration": 39.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.4 * (i % 3), "frequency": 0.12 + 0.06 * (i % 2),
+                                "duration": 35.0},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.8, 1.6, -2.4, 3.3) if i % 2 else (-2.9, 2.1, -1.2, 2.8, -1.9, 1.5),
+                                 "move_time": 1.25 + 0.55 * (i % 2), "dwell": 2.3, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.065, 0.22, 0.75, 1.9, 3.6), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib12_settings(n: int = 40):
+    """A twelfth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (CRISP, STOCKY, SUPPLE), 250-900 Hz, torque noise 0.05-0.09 N*m, white in half
+    the rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise 0.0025-0.0045
+    deg/s, quantisation 0.0007-0.0013 deg; seeds 12500 + i."""
+    return _effect_free_set("calib12", CALIB12_EXCITATIONS, ["crisp", "stocky", "supple"],
+                            [(True, True), (True, False), (False, True)], [250.0, 390.0, 520.0, 680.0, 900.0],
+                            [0.06, 0.08, 0.05], [0.0, 0.5, 0.0, 0.65], [0.0025, 0.0045], [0.0007, 0.0013],
+                            12500, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=3, tn_rule=(2, 5))
+
+
+# fresh13: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F13_FS = {"a": 315.0, "b": 435.0, "c": 265.0, "d": 555.0, "e": 405.0, "f": 335.0, "g": 445.0, "h": 305.0,
+           "i": 375.0}
+_F13_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 2.3},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 0.8}}
+
+
+def fresh13_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (12700 + k), with the gravity's phase, the asymmetry's sign and
+    the ripple's period and phase changed."""
+    return _refreshed("fresh13", _F13_FS, _F13_VARIED, 12700)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1190,6 +1244,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib9": calib9_settings, "fresh10": fresh10_settings, "outside4": outside4_settings,
             "calib10": calib10_settings, "fresh11": fresh11_settings, "outside5": outside5_settings,
             "calib11": calib11_settings, "fresh12": fresh12_settings,
+            "calib12": calib12_settings, "fresh13": fresh13_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1346,7 +1401,8 @@ def run_one(job, top_k, cache=None):
 NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fresh5", "calib4", "fresh6", "calib5",
                "outside2", "calib6", "fresh7", "calib7",
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
-               "calib10", "fresh11", "outside5", "calib11", "fresh12")
+               "calib10", "fresh11", "outside5", "calib11", "fresh12",
+               "calib12", "fresh13")
 
 
 def main():
