@@ -293,6 +293,27 @@ def test_a_ripple_whose_gain_lives_at_one_speed_is_implausible():
     assert why is not None and "speed quartiles" in why, why
 
 
+def test_a_backlash_narrower_than_the_bristles_is_implausible():
+    """Backlash.implausible: with a LuGre baseline of pre-sliding length max(Fs, Fc)/sigma0 = 0.005
+    deg, a gap of 0.001 deg acts within the bristles' own transition after a reversal and is
+    rejected; 0.02 deg stays plausible; a baseline without bristles leaves the check out."""
+    from types import SimpleNamespace
+
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose._physics import Backlash
+    from lugre_jax.friction import LuGre, Stribeck
+
+    lugre = LuGre(Fc=0.6, Fs=1.0, vs=0.05, sigma0=200.0, sigma1=1.0, sigma2=1.0)
+    ctx = SimpleNamespace(position_resolution=1e-5, baseline=SimpleNamespace(friction=lugre))
+    why = Backlash(jnp.asarray(0.001), jnp.asarray(0.05)).implausible(ctx)
+    assert why is not None and "pre-sliding" in why and "0.005" in why, why
+    assert Backlash(jnp.asarray(0.02), jnp.asarray(0.05)).implausible(ctx) is None
+    ctx_s = SimpleNamespace(position_resolution=1e-5,
+                            baseline=SimpleNamespace(friction=Stribeck(Fc=0.6, Fs=1.0, vs=0.05, sigma2=1.0)))
+    assert Backlash(jnp.asarray(0.001), jnp.asarray(0.05)).implausible(ctx_s) is None
+
+
 def test_a_gravity_that_is_flat_over_the_positions_is_implausible():
     """Gravity.implausible: over 40 deg of travel around its crest, A*sin(theta + 1.23) varies by
     2 % of its mean (the fresh set's ripple + asymmetry recording, where such a 'gravity' took the

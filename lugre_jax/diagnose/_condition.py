@@ -364,10 +364,8 @@ def conditioned_kinematics(t, position, velocity, source: str, W: int, order: in
     The bristles follow the position path. A coarse encoder jerks z by sigma0*q at every step (see
     docs/diagnosis.md), and smoothing the quantised position makes the path wiggle; so the path is
     complementary: the integral of the conditioned velocity, pulled to the measured position over
-    ~4 s. (The measured position itself is the other path the baseline fit may choose.)"""
-    from scipy.integrate import cumulative_trapezoid
-    from scipy.ndimage import uniform_filter1d
-
+    ~4 s. (The measured position, and a measured velocity's own integral, are the other paths the
+    baseline fit may choose.)"""
     t = np.asarray(t, float)
     dt = float(np.median(np.diff(t)))
     if source == "velocity":
@@ -378,11 +376,24 @@ def conditioned_kinematics(t, position, velocity, source: str, W: int, order: in
         a = savgol_filter(position, W, order, deriv=2, delta=dt)
     if blend:
         a = a + blend * (a - wider_acceleration(t, position, velocity, source, W, order))
+    return v, a, velocity_path(t, position, v)
+
+
+def velocity_path(t, position, velocity) -> np.ndarray:
+    """The bristle path from a velocity: its integral, pulled to ``position`` over ~4 s.
+
+    Given the measured velocity itself (not smoothed) it keeps the path's sharp turns, which a
+    smoothing window blurs at steps and reversals; its noise integrates to a random walk that only
+    matters where the bristles hold still (dwells, which are left out, :func:`at_rest`): while the
+    joint slides, z forgets the path within a few pre-sliding lengths."""
+    from scipy.integrate import cumulative_trapezoid
+    from scipy.ndimage import uniform_filter1d
+
+    t = np.asarray(t, float)
     pos = np.asarray(position, float)
-    iv = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
-    n_lp = max(1, int(4.0 / dt)) | 1
-    th = iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
-    return v, a, th
+    iv = np.concatenate([[0.0], cumulative_trapezoid(np.asarray(velocity, float), t)])
+    n_lp = max(1, int(4.0 / float(np.median(np.diff(t))))) | 1
+    return iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
 
 
 def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 3) -> np.ndarray:
@@ -395,7 +406,7 @@ def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 
 def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0):
     """One draw of the errors in variables: ``(synthetic, reference)``, each ``(v, a, bristle
     path)``, built from the measured signals exactly as the fit's kinematics are (``cond``'s source
-    and window; ``path``: ``measured`` or ``complementary``), the synthetic one from measurements
+    and window; ``path``: ``measured``, ``complementary`` or ``velocity``), the synthetic one from measurements
     carrying fresh errors of the kind and size estimated from the data. The model's prediction on
     the synthetic minus that on the reference is one draw of what the kinematics' errors bring into
     the residual.
@@ -435,6 +446,8 @@ def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0)
         if cond.source == "recording":
             return v_in, derive_kinematics(t, v_in), p
         v, a, th = conditioned_kinematics(t, p, v_in, cond.source, cond.window, cond.order, cond.blend)
+        if path == "velocity":
+            th = velocity_path(t, p, v_in)
         return v, a, (p if path == "measured" else th)
 
     return build(pos_syn, vel_syn), build(pos_ref, vel_ref)

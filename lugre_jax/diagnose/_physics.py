@@ -287,6 +287,15 @@ class Backlash(AbstractCandidate):
         res = ctx.position_resolution
         if float(self.width) < 4 * res:
             return f"width {float(self.width):.3g} within four steps of the position resolution {res:.3g}"
+        f = ctx.baseline.friction
+        if isinstance(f, LuGre):
+            # a gap narrower than the bristles' pre-sliding length acts within the same travel after
+            # a reversal as the bristle state's own transition, where the inverse model's error
+            # from the conditioned kinematics also lives: it cannot be told from either
+            x_pre = max(float(f.Fs), float(f.Fc)) / float(f.sigma0)
+            if float(self.width) < x_pre:
+                return (f"width {float(self.width):.3g} below the bristles' pre-sliding length "
+                        f"max(Fs, Fc)/sigma0 = {x_pre:.3g}")
         return None
     explanation: ClassVar[str] = (
         "Backlash (dead band) in the transmission: after every reversal the motor turns through a gap "

@@ -229,14 +229,16 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
     rechosen = None
     for second in (False, True):
         forget = None
-        if not cond.position_measured and hasattr(rough.friction, "Fs"):
-            # the path integrates the velocity: across an unresolved transient it is off by an unknown
-            # step that the bristles remember over the travel bristle_memory gives (pre-sliding
-            # length measured at the reversals)
+        # the bristle state is unknown after a dwell (whatever the sensors), and with a velocity-only
+        # path after any unresolved transient too (the path is off by an unknown step there): the
+        # bristles remember either over the travel bristle_memory gives (pre-sliding length
+        # measured at the reversals)
+        events = rest if cond.position_measured else unresolved
+        if np.any(events) and hasattr(rough.friction, "Fs"):
             forget = bristle_memory(M.presliding_displacement(crec, float(rough.friction.Fs)),
                                     max(float(rough.friction.Fs), float(rough.friction.Fc)), cond.torque_noise, cfg)
             unresolved_in = unresolved
-            unresolved = forget_after(unresolved_in, crec.position, forget)
+            unresolved = unresolved | forget_after(events, crec.position, forget)
         split = _split(crec, cond, unresolved, cfg)
         w = split.w
         paths = _paths(rec, crec, cond)
@@ -248,7 +250,8 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
             # be longer, and then the fit is repeated without the samples it adds
             fmax = max(float(base.friction.Fs), float(base.friction.Fc))
             forget_fit = bristle_memory(fmax / float(base.friction.sigma0), fmax, cond.torque_noise, cfg)
-            wider = forget_after(unresolved_in, crec.position, forget_fit) if forget_fit > forget else unresolved
+            wider = (unresolved_in | forget_after(events, crec.position, forget_fit)) if forget_fit > forget \
+                else unresolved
             if np.any(wider & ~unresolved):
                 unresolved = wider
                 split = _split(crec, cond, unresolved, cfg)
@@ -301,11 +304,17 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
 
 def _paths(rec, crec, cond) -> dict:
     """The bristle paths a baseline fit chooses between: the conditioned recording's own
-    (complementary, or as measured when used as loaded) and, with a measured position beside
-    conditioned derivatives, the measured position."""
+    (complementary, or as measured when used as loaded) and, with conditioned derivatives, the
+    measured position where there is one and the measured velocity's own integral where there is
+    one (:func:`~._condition.velocity_path`)."""
     paths = {"complementary" if cond.source != "recording" else "measured": M.kinematics_of(crec)}
     if cond.source != "recording" and cond.position_measured:
         paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, np.asarray(rec.position)))
+    if cond.source != "recording" and cond.velocity_measured:
+        from ._condition import velocity_path
+
+        paths["velocity"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, velocity_path(
+            rec.time, crec.position, rec.velocity)))
     return paths
 
 
