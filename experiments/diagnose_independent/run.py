@@ -141,6 +141,10 @@ EVEN = T.Plant(J=0.19, Fc=0.85, Fs=1.2, vs=0.1, sigma2=1.4, sigma0=300.0, sigma1
 CRISP = T.Plant(J=0.11, Fc=0.55, Fs=0.9, vs=0.065, sigma2=1.1, sigma0=210.0, sigma1=1.0)
 STOCKY = T.Plant(J=0.38, Fc=1.5, Fs=2.1, vs=0.085, sigma2=1.8, sigma0=260.0, sigma1=1.8)
 SUPPLE = T.Plant(J=0.06, Fc=0.45, Fs=0.7, vs=0.07, sigma2=0.8, sigma0=110.0, sigma1=0.7)
+# calib13's plants
+LANKY = T.Plant(J=0.07, Fc=0.48, Fs=0.78, vs=0.075, sigma2=0.95, sigma0=190.0, sigma1=0.85)
+CHUNKY = T.Plant(J=0.42, Fc=1.7, Fs=2.25, vs=0.06, sigma2=1.9, sigma0=230.0, sigma1=1.9)
+POISED = T.Plant(J=0.14, Fc=0.65, Fs=1.0, vs=0.09, sigma2=1.25, sigma0=170.0, sigma1=1.15)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -173,7 +177,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "even": (EVEN, T.VelocityPIController(kp=12.0, ki=72.0)),
           "crisp": (CRISP, T.VelocityPIController(kp=6.6, ki=40.0)),
           "stocky": (STOCKY, T.VelocityPIController(kp=23.0, ki=138.0)),
-          "supple": (SUPPLE, T.VelocityPIController(kp=3.7, ki=22.0))}
+          "supple": (SUPPLE, T.VelocityPIController(kp=3.7, ki=22.0)),
+          "lanky": (LANKY, T.VelocityPIController(kp=4.3, ki=26.0)),
+          "chunky": (CHUNKY, T.VelocityPIController(kp=25.0, ki=152.0)),
+          "poised": (POISED, T.VelocityPIController(kp=8.5, ki=51.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -208,7 +215,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "even": T.PositionPIDController.tuned(0.19, 3.0, tf=0.003),
         "crisp": T.PositionPIDController.tuned(0.11, 3.0, tf=0.003),
         "stocky": T.PositionPIDController.tuned(0.38, 2.5, tf=0.005),
-        "supple": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002)}
+        "supple": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
+        "lanky": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
+        "chunky": T.PositionPIDController.tuned(0.42, 2.5, tf=0.005),
+        "poised": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -1234,6 +1244,49 @@ def fresh13_settings():
     return _refreshed("fresh13", _F13_FS, _F13_VARIED, 12700)
 
 
+# calib13's excitations: the six kinds with parameters no earlier set used
+CALIB13_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.04, 0.14, 0.5, 1.5, 3.4), "dwell": 2.9 if i % 2 else 2.5,
+                            "transition": 0.28, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.042, "f1": 1.25, "duration": 38.0,
+                             "bias": 0.45 + 0.5 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.6 * (i % 2), "f0": 0.05, "f1": 0.95 + 0.4 * (i % 3),
+                            "n": 12 + 2 * (i % 2), "duration": 38.0},
+    "position_sine": lambda i: {"amplitude": 2.7 + 2.3 * (i % 3), "frequency": 0.13 + 0.05 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.7, -2.2, 1.4, -3.0, 2.0) if i % 2 else (-2.3, 2.6, -1.7, 2.2, -2.8, 1.3),
+                                 "move_time": 1.3 + 0.45 * (i % 2), "dwell": 2.2, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.06, 0.2, 0.7, 1.8, 3.5), "dwell": 2.3, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib13_settings(n: int = 40):
+    """A thirteenth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (LANKY, CHUNKY, POISED), 240-880 Hz, torque noise 0.05-0.09 N*m, white in half
+    the rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise 0.0025-0.0045
+    deg/s, quantisation 0.0009-0.0015 deg; seeds 12900 + i."""
+    return _effect_free_set("calib13", CALIB13_EXCITATIONS, ["lanky", "chunky", "poised"],
+                            [(True, True), (True, False), (False, True)], [240.0, 370.0, 500.0, 640.0, 880.0],
+                            [0.09, 0.06, 0.07], [0.0, 0.5, 0.0, 0.65], [0.0025, 0.0045], [0.0009, 0.0015],
+                            12900, n, loops=("pi", "pid"), nff=0, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
+# fresh14: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F14_FS = {"a": 305.0, "b": 425.0, "c": 255.0, "d": 545.0, "e": 385.0, "f": 325.0, "g": 435.0, "h": 295.0,
+           "i": 355.0}
+_F14_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.1},
+               "position_ripple": lambda kw: kw | {"period": 1.1 * kw["period"], "phase": kw["phase"] + 1.9}}
+
+
+def fresh14_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (13100 + k), with the gravity's phase and the ripple's period and
+    phase changed."""
+    return _refreshed("fresh14", _F14_FS, _F14_VARIED, 13100)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1245,6 +1298,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib10": calib10_settings, "fresh11": fresh11_settings, "outside5": outside5_settings,
             "calib11": calib11_settings, "fresh12": fresh12_settings,
             "calib12": calib12_settings, "fresh13": fresh13_settings,
+            "calib13": calib13_settings, "fresh14": fresh14_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1402,7 +1456,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside2", "calib6", "fresh7", "calib7",
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
-               "calib12", "fresh13")
+               "calib12", "fresh13", "calib13", "fresh14")
 
 
 def main():
