@@ -35,6 +35,9 @@ def test_at_rest_takes_dwells_not_passages_through_zero():
     noisy = v + 0.01 * np.random.default_rng(5).standard_normal(t.size)
     rest = at_rest(noisy, 0.01, 0.05, min_run=21)
     assert rest[(t > 0.02) & (t < 0.98)].mean() > 0.99 and rest[t > 1.01].mean() < 0.01
+    # a creep at the noise level: no window tells it from rest, its 2-s mean does (z ~ 9)
+    creep = 0.01 + 0.01 * np.random.default_rng(6).standard_normal(t.size)
+    assert not at_rest(creep, 0.01, 0.05, min_run=21)[t < 3.0].any()
     # the reversals (7 samples each within 1.96*0.01 of zero) are flagged without the run length
     assert at_rest(v, 0.01, 0.05)[t > 1.01].sum() >= 6 * 5
 

@@ -459,7 +459,8 @@ def at_rest(velocity, velocity_noise: float, alpha: float, min_run: int = 1) -> 
     dwell LuGre's bristle state is set by presliding displacements too small to measure and by the
     history before the stop, so it cannot be computed from the kinematics: a correct inverse model
     misses the friction there by up to the breakaway level, a structured error no candidate may
-    claim. A shorter run is a passage through zero, whose path the kinematics do resolve."""
+    claim. A shorter run is a passage through zero, whose path the kinematics do resolve, and a run
+    whose mean velocity is told from zero a creep, whose sliding state they resolve too."""
     from scipy import ndimage, stats
 
     v = np.abs(np.asarray(velocity, float))
@@ -473,7 +474,15 @@ def at_rest(velocity, velocity_noise: float, alpha: float, min_run: int = 1) -> 
         still = still | (inner & (size[gaps] < min_run))
         runs, _ = ndimage.label(still)
         size = np.bincount(runs)
-        still = (runs > 0) & (size[runs] >= min_run)
+        # a slow creep whose velocity each window cannot tell from zero still travels: a run is a
+        # dwell when its mean velocity is not told from zero either, against the mean's noise (the
+        # smoothed velocity's errors are correlated over about a window, so ~size/min_run of them
+        # are independent)
+        sums = np.bincount(runs, weights=np.asarray(velocity, float))
+        mean = sums / np.maximum(size, 1)
+        se = max(float(velocity_noise), 0.0) * np.sqrt(min_run / np.maximum(size, 1))
+        dwell = (size >= min_run) & (np.abs(mean) < stats.norm.isf(alpha / 2.0) * se)
+        still = (runs > 0) & dwell[runs]
     return still
 
 

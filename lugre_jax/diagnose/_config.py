@@ -53,8 +53,9 @@ class DiagnoseConfig:
       every fifth block is held out.
     - ``at_floor`` (1.1): validation RMSE over the estimated floor at or below which the baseline
       counts as at its floor (a 10 % excess is what the floor estimate resolves).
-    - Dwells (runs of at least one conditioning window, and 5 samples, whose conditioned velocity
-      is within ``norm.isf(alpha/2)`` noise std of zero) are left out of fit, floor and tests:
+    - Dwells (with a velocity sensor: runs of at least one conditioning window, and 5 samples, whose
+      conditioned velocity, and its mean over the run, are within ``norm.isf(alpha/2)`` noise std
+      of zero) are left out of fit, floor and tests:
       there the bristle state is set by presliding motion below the sensors' resolution and by the
       history before the stop, so a correct inverse model misses the friction by up to the
       breakaway level (no number of its own: the rest test runs at ``alpha``, and a shorter run is

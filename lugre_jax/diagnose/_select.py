@@ -213,7 +213,7 @@ class Floor:
 def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
     fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
-    from ._condition import at_rest, condition, conditioned_kinematics, forget_after, smoothing_blend
+    from ._condition import condition, conditioned_kinematics, forget_after, smoothing_blend
 
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
@@ -224,7 +224,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
     if not 0.8 <= float(rough2.J) / max(float(rough.J), 1e-300) <= 1.25:
         rough = rough2
         crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
-    rest = at_rest(crec.velocity, cond.velocity_noise_after, cfg.alpha, max(cond.window, 5))
+    rest = _dwells(crec, cond, cfg)
     unresolved = unresolved | rest
     rechosen = None
     for second in (False, True):
@@ -278,7 +278,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
                     "excess_error_nm": float(np.sqrt(mse_old - mse_new))}
         crec, cond, unresolved = crec2, cond2, unresolved2
-        rest = at_rest(crec.velocity, cond.velocity_noise_after, cfg.alpha, max(cond.window, 5))
+        rest = _dwells(crec, cond, cfg)
         unresolved = unresolved | rest
     if rechosen is not None:
         info["window_rechosen_from"] = rechosen
@@ -300,6 +300,17 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         info["bristle_path"] = path
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest), split
+
+
+def _dwells(crec, cond, cfg) -> np.ndarray:
+    """The dwells left out (:func:`~._condition.at_rest`), with a velocity sensor: its white noise
+    through the window is what the rest test's level assumes. Derivatives of a quantised position
+    read zero between encoder steps at a slow creep, which the test cannot tell from a stop."""
+    from ._condition import at_rest
+
+    if not cond.velocity_measured:
+        return np.zeros(np.shape(crec.velocity), bool)
+    return at_rest(crec.velocity, cond.velocity_noise_after, cfg.alpha, max(cond.window, 5))
 
 
 def _paths(rec, crec, cond) -> dict:

@@ -127,7 +127,8 @@ def effect_instance(name: str, strength: float = 1.0):
     if name == "stribeck_shape":
         return ph.StribeckShape(2.0 - 0.5 * s)
     if name == "backlash":
-        return ph.Backlash(0.01, 0.028 * s)
+        # wider than the joint's pre-sliding length Fs/sigma0 = 0.016 deg: a narrower gap is not named
+        return ph.Backlash(0.025, 0.028 * s)
     if name == "compliance":
         return ph.Compliance(3.0, 0.05, 0.014 * s)
     if name == "load_dependent":
