@@ -463,8 +463,9 @@ def at_rest(velocity, velocity_noise: float, alpha: float, min_run: int = 1) -> 
     whose mean velocity is told from zero a creep, whose sliding state they resolve too."""
     from scipy import ndimage, stats
 
-    v = np.abs(np.asarray(velocity, float))
-    still = v < stats.norm.isf(alpha / 2.0) * max(float(velocity_noise), 0.0)
+    v = np.asarray(velocity, float)
+    z, sv = stats.norm.isf(alpha / 2.0), max(float(velocity_noise), 0.0)
+    still = np.abs(v) < z * sv
     if min_run > 1 and still.any():
         # a dwell's own noise lifts alpha of its samples over the bound, in excursions of up to a
         # window: gaps shorter than min_run between still samples are closed first
@@ -478,10 +479,9 @@ def at_rest(velocity, velocity_noise: float, alpha: float, min_run: int = 1) -> 
         # dwell when its mean velocity is not told from zero either, against the mean's noise (the
         # smoothed velocity's errors are correlated over about a window, so ~size/min_run of them
         # are independent)
-        sums = np.bincount(runs, weights=np.asarray(velocity, float))
-        mean = sums / np.maximum(size, 1)
-        se = max(float(velocity_noise), 0.0) * np.sqrt(min_run / np.maximum(size, 1))
-        dwell = (size >= min_run) & (np.abs(mean) < stats.norm.isf(alpha / 2.0) * se)
+        mean = np.bincount(runs, weights=v) / np.maximum(size, 1)
+        se = sv * np.sqrt(min_run / np.maximum(size, 1))
+        dwell = (size >= min_run) & (np.abs(mean) < z * se)
         still = (runs > 0) & dwell[runs]
     return still
 

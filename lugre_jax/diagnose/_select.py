@@ -158,7 +158,8 @@ class Prepared:
 
     ``rec_in``: as loaded; ``rec``: conditioned; ``cond``: how; ``unresolved``: samples inside
     transients the sampling does not resolve; ``kin``: kinematics along the chosen bristle ``path``;
-    ``base``: the baseline; ``info``: its fit record; ``k``: its free-parameter count."""
+    ``base``: the baseline; ``info``: its fit record; ``k``: its free-parameter count; ``at_rest``:
+    the dwells left out (part of ``unresolved``)."""
 
     rec_in: object
     rec: object
@@ -169,7 +170,7 @@ class Prepared:
     base: object
     info: dict
     k: int
-    at_rest: np.ndarray | None = None
+    at_rest: np.ndarray
 
 
 @dataclasses.dataclass(frozen=True)
@@ -641,7 +642,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                "reaches, or the signal), so the floor may be only a lower bound"
                if cond.torque_noise_open else "")),
         conditioning=cond.to_json(), unresolved_transient_fraction=float(prep.unresolved.mean()),
-        at_rest_fraction=float(prep.at_rest.mean()) if prep.at_rest is not None else 0.0)
+        at_rest_fraction=float(prep.at_rest.mean()))
     located = tuple(Region.from_test(x) for x in loc0["located"])
     remaining = tuple(Region.from_test(x) for x in loc_cur["located"])
     # a finding's parameters are those of the final joint model; its evidence stays that of its step
