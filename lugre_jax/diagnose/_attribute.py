@@ -43,15 +43,15 @@ def _smooth_derivative(x, t, window: int):
     return savgol_filter(np.asarray(x, float), w, 3, deriv=1, delta=dt) if x.size > w else np.gradient(x, t)
 
 
-def library(ctx, model_torque, window: int) -> list[tuple[TermGroup, np.ndarray]]:
-    """The term library on the recording (each group's columns, full length), except the time line,
-    whose frequency is searched on the residual (:func:`_time_line`)."""
+def library(ctx, kin, model_torque, window: int) -> list[tuple[TermGroup, np.ndarray]]:
+    """The term library along the kinematics ``kin`` (each group's columns, full length), except
+    the time line, whose frequency is searched on the residual (:func:`_time_line`)."""
     rec = ctx.rec
     u = rec.units
     t = np.asarray(rec.time, float)
-    v = np.asarray(rec.velocity, float)
-    a = np.asarray(rec.acceleration, float)
-    th = np.asarray(rec.position, float)
+    v = np.asarray(kin.v, float)
+    a = np.asarray(kin.a, float)
+    th = np.asarray(kin.theta, float)
     T, tu, pu = u["torque"], u["time"], u["position"]
     V = ctx.scales["V"]
     tau_rate = _smooth_derivative(model_torque, t, window)
@@ -115,28 +115,18 @@ def _val_residual(D, E, rows, val):
     return E[:, val].T - D[val] @ (P @ E[:, rows].T)
 
 
-def _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, line_freqs):
-    """The term ``X`` of group ``g`` fitted on the training ``rows`` with the model's linearised
-    refit and the terms already in, predicted on the held-out ``val``: (held-out RMSE, p against the
-    null draws ``E``, the analytic p, the prediction, the coefficients). ``line_freqs``: each draw's
-    own frequency, for the time line."""
-    base = np.column_stack([JB] + [Xc for _, Xc in chosen])
+def _held_out(X, base, r, r_fit, rows, val, blocks):
+    """The term ``X`` fitted on the training ``rows`` with the ``base`` columns (the model's
+    linearised refit and the terms already in), predicted on the held-out ``val``: (held-out RMSE,
+    its statistic ``sum_val(r_fit^2 - (r - pred)^2)``, the analytic p, the prediction, the
+    coefficients)."""
     Xall = np.column_stack([base, X])
     beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
     pred = Xall @ beta
     new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
     p_analytic = C.held_out_p(r_fit, r - pred, blocks, val)
     d_obs = float(np.sum(r_fit[val] ** 2 - (r - pred)[val] ** 2))
-    if g.name == TIME_LINE.name:
-        # each draw's own line; the draws' fit by the base columns alone is the same for all
-        r0 = _val_residual(base, E, rows, val)
-        r1 = np.column_stack([_val_residual(np.column_stack([base, _sincos(t, f)]), E[b:b + 1], rows, val)
-                              for b, f in enumerate(line_freqs)])
-        d_null = np.sum(r0 ** 2 - r1 ** 2, axis=0)
-    else:
-        d_null = held_out_gains(base, X, E, rows, val)
-    p_held = float((1.0 + np.sum(d_null >= d_obs)) / (d_null.size + 1.0))
-    return new, p_held, p_analytic, pred, beta
+    return new, d_obs, p_analytic, pred, beta
 
 
 @dataclasses.dataclass(frozen=True)
@@ -179,48 +169,78 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. Where the held-out RMSE
     with a term stays above ``at_floor_nm`` (the at-floor bound) the residual holds misfit the null
     draws do not describe, so the term's held-out p is the larger of the draws' and the analytic
-    one (which allows any colour)."""
+    one (which allows any colour). Every draw's columns are built from the kinematics its residual
+    was made through (:class:`._calibrate.Views`)."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
-    _, F, tau_model = (np.asarray(x) for x in M._parts(model, kin))
-    groups = [(g, X) for g, X in library(ctx, tau_model, window)
-              if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
-    E = C.null_draws(model, kin, null, n_draws, seed)  # draws x n, every sample (held-out law below)
-    QB, Rn = C.null_residuals(model, specs, kin, rows, null, n_draws, seed, nuisance, draws=E)
+
+    def terms_on(k):
+        tau_model = np.asarray(M._parts(model, k)[2])
+        return [(g, X) for g, X in library(ctx, k, tau_model, window)
+                if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
+
+    groups = terms_on(kin)
+    widths = np.cumsum([0] + [X.shape[1] for _, X in groups])
+    nb = C.NullBasis(model, specs, kin, rows, null, n_draws, seed, nuisance)
+    E, Rn, views = nb.draws.E, nb.R, nb.views
+    lib = views.build(lambda k: np.column_stack([X for _, X in terms_on(k)]))
+
+    def columns(d):
+        """Draw ``d``'s library, group by group (every sample)."""
+        L_ = views.at(lib, d)
+        return [L_[:, widths[i]:widths[i + 1]] for i in range(len(groups))]
+
+    QB = nb.QB
     JB = C.jacobian(model, specs, kin, np.ones(r.size, bool))  # all rows, for held-out prediction
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(r.size, -1)])
+    names = [g.name for g, _ in groups]
     chosen: list[tuple[TermGroup, np.ndarray]] = []
+    chosen_i: list = []  # library index of each chosen group (None: the time line, at its frequency)
     tests = []
     terms = []
     before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
     after = before
     r_fit = r
+    line_f = None
+
+    def draw_chosen(d, cols):
+        return [cols[i] if i is not None else _sincos(t, line_f) for i in chosen_i]
+
     for _ in range(max_terms):
         Q = C._orth(np.column_stack([QB] + [X[rows] for _, X in chosen])) if chosen else QB
-        Rq = Rn - Q @ (Q.T @ Rn) if chosen else Rn
-        cands = [(g, X) for g, X in groups if g.name not in [c[0].name for c in chosen]]
-        # the time line: frequency searched on the residual and on every draw
+        left = [i for i in range(len(groups)) if names[i] not in [c[0].name for c in chosen]]
         have_line = TIME_LINE.name in [c[0].name for c in chosen]
-        obs, T = [], []
-        for g, X in cands:
-            obs.append(float(C._gains(Q, X[rows], r[rows][:, None])[0]))
-            T.append(C._gains(Q, X[rows], Rq))
         line_X = None
         if not have_line:
             f_obs = float(_time_line_freqs(t, r[None, :], rows)[0])
             line_X = _sincos(t, f_obs)
-            full = np.zeros((Rq.shape[1], r.size))
-            full[:, rows] = Rq.T
+            full = np.zeros((n_draws, r.size))
+            full[:, rows] = Rn.T
             fb = _time_line_freqs(t, full, rows)
+        # each draw: its own basis (the model's on its kinematics, the chosen terms' on them), its
+        # residual with that basis taken out, and every group's gain on it
+        T = np.zeros((n_draws, len(left) + (line_X is not None)))
+        for d in range(n_draws):
+            cols = columns(d)
+            Qd = C._orth(np.column_stack([nb.Q(d)] + [X[rows] for X in draw_chosen(d, cols)])) if chosen \
+                else nb.Q(d)
+            rd = Rn[:, d:d + 1]
+            rd = rd - Qd @ (Qd.T @ rd) if chosen else rd
+            T[d, :len(left)] = [C._gains(Qd, cols[i][rows], rd)[0] for i in left]
+            if line_X is not None:
+                T[d, -1] = C._gains(Qd, _sincos(t, fb[d])[rows], rd)[0]
+        cands = [groups[i] for i in left]
+        obs = [float(C._gains(Q, X[rows], r[rows][:, None])[0]) for _, X in cands]
+        idx = list(left)
+        if line_X is not None:
             obs.append(float(C._gains(Q, line_X[rows], r[rows][:, None])[0]))
-            T.append(np.array([float(C._gains(Q, _sincos(t, f)[rows], Rq[:, b:b + 1])[0])
-                               for b, f in enumerate(fb)]))
             Tu = ctx.rec.units["torque"]
             cands = cands + [(dataclasses.replace(TIME_LINE, labels=(f"sin(2*pi*{f_obs:.4g}*t)",
                                                                      f"cos(2*pi*{f_obs:.4g}*t)"),
                                                   units=(Tu, Tu)), line_X)]
-        p_raw, p_adj, z = C.min_p(np.asarray(obs), np.stack(T, axis=1))
+            idx.append(None)
+        p_raw, p_adj, z = C.min_p(np.asarray(obs), T)
         tests.append([{"signal": g.name, "gain_nm2": o, "gain_over_null_mean": float(zz), "p_raw": float(pr),
                        "p_family": float(pa)} for (g, _), o, zz, pr, pa in zip(cands, obs, z, p_raw, p_adj)])
         obs_a = np.asarray(obs)
@@ -231,10 +251,18 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         # null, the first whose term holds up on the held-out blocks taken
         excess = obs_a - obs_a / np.maximum(z, 1e-300)
         taken = None
+        base = np.column_stack([JB] + [Xc for _, Xc in chosen])
         for k in sig[np.argsort(-excess[sig])]:
             g, X = cands[k]
-            held = _held_out(g, X, JB, chosen, r, r_fit, rows, val, blocks, E, t, fb if line_X is not None else None)
-            new, p_held, p_analytic, pred, beta = held
+            new, d_obs, p_analytic, pred, beta = _held_out(X, base, r, r_fit, rows, val, blocks)
+            # its law on the draws, each with its own columns (and, for the time line, its own line)
+            d_null = np.empty(n_draws)
+            for d in range(n_draws):
+                cols = columns(d)
+                base_d = np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols))
+                X_d = cols[idx[k]] if idx[k] is not None else _sincos(t, fb[d])
+                d_null[d] = held_out_gains(base_d, X_d, E[d:d + 1], rows, val)[0]
+            p_held = float((1.0 + np.sum(d_null >= d_obs)) / (n_draws + 1.0))
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
             # the term's held-out share must reach the resolution locate claims structure at
@@ -253,8 +281,11 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         k, g, X, new, p_held, p_analytic, pred, beta = taken
         r_fit = r - pred
         chosen.append((g, X))
-        nb = JB.shape[1]
-        coef = beta[nb + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
+        chosen_i.append(idx[k])
+        if idx[k] is None:
+            line_f = f_obs
+        nb_cols = JB.shape[1]
+        coef = beta[nb_cols + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
                       "units": list(g.units), "reading": g.reading, "p_family": float(p_adj[k]),
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,

@@ -138,6 +138,14 @@ def _jac_many(us, paths, bounds, template, kin, tau, w):
     return jax.vmap(lambda u: jax.jacfwd(M._residual_fn)(u, (paths, bounds, template, kin, tau, w, 1.0)))(us)
 
 
+def block_pick(blocks: np.ndarray, k: int, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+    """For ``n_draws`` series, the realisation (of ``k``) each sample is taken from, block by block
+    (draws x n): :func:`block_mixed`'s choice, kept so that everything a draw is seen through (its
+    residual and its columns) comes from the same realisation."""
+    _, b = np.unique(np.asarray(blocks), return_inverse=True)
+    return rng.integers(0, k, size=(n_draws, int(b.max()) + 1))[:, b]
+
+
 def block_mixed(d: np.ndarray, blocks: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
     """``n_draws`` series (draws x n) made of the rows of ``d`` (K x n) block by block: each time
     block of each series taken from one of the K rows at random (a block bootstrap over the K
@@ -146,36 +154,115 @@ def block_mixed(d: np.ndarray, blocks: np.ndarray, n_draws: int, rng: np.random.
     ``n_draws`` nearly independent series instead of K repeated ones, whose few values would set
     the null's tail (a term that a fresh realisation happens to follow would beat all K of them
     with probability 1/(K + 1), whatever the draws)."""
-    _, b = np.unique(np.asarray(blocks), return_inverse=True)
-    pick = rng.integers(0, d.shape[0], size=(n_draws, int(b.max()) + 1))
-    return d[pick[:, b], np.arange(d.shape[1])[None, :]]
+    return d[block_pick(blocks, d.shape[0], n_draws, rng), np.arange(d.shape[1])[None, :]]
+
+
+@dataclasses.dataclass(frozen=True)
+class Draws:
+    """Null draws of a complete model's residual (``E``, draws x n, every sample) and the kinematic
+    realisation behind each draw's sample (``pick``, draws x n, an index into
+    ``null.kinematic_draws``; zeros without them)."""
+
+    E: np.ndarray
+    pick: np.ndarray
+
+
+def sample(model, kin, null: NullModel, n_draws: int, seed: int) -> Draws:
+    """``n_draws`` simulated residuals of ``model`` if it were complete: the torque noise plus the
+    kinematics' errors carried through the model (the kinematic draws mixed block by block over
+    ``null.blocks``, :func:`block_pick`); no refit is taken out, so a test referred to them is
+    slightly conservative."""
+    rng = np.random.default_rng(seed)
+    n = kin.v.shape[0]
+    E = null.torque_noise(rng, (n_draws, n))
+    eiv = null.kinematic_errors(model, kin)
+    if not eiv.shape[0]:
+        return Draws(E, np.zeros((n_draws, n), int))
+    pick = block_pick(null.blocks, eiv.shape[0], n_draws, rng)
+    return Draws(E + eiv[pick, np.arange(n)[None, :]], pick)
 
 
 def null_draws(model, kin, null: NullModel, n_draws: int, seed: int) -> np.ndarray:
-    """``n_draws`` simulated residuals of ``model`` if it were complete (draws x n, every sample):
-    the torque noise plus the kinematics' errors carried through the model (the kinematic draws
-    mixed block by block over ``null.blocks``, :func:`block_mixed`); no refit is taken out, so a
-    test referred to them is slightly conservative."""
-    rng = np.random.default_rng(seed)
-    E = null.torque_noise(rng, (n_draws, kin.v.shape[0]))
-    eiv = null.kinematic_errors(model, kin)
-    return E + block_mixed(eiv, null.blocks, n_draws, rng) if eiv.shape[0] else E
+    """:func:`sample`'s residuals alone (draws x n)."""
+    return sample(model, kin, null, n_draws, seed).E
 
 
-def null_residuals(current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None,
-                   draws=None):
-    """The current model's Jacobian basis on the training rows (``QB``, with the ``nuisance``
-    columns: shapes a correct model's residual keeps, e.g. the kinematics' systematic error) and
-    ``n_draws`` null draws of its residual there, each with its projection on ``QB`` removed (what
-    a refit leaves): rows x draws. ``draws``: :func:`null_draws`' output, when the caller has it."""
-    n = kin.v.shape[0]
-    JB = jacobian(current, base_specs, kin, rows)
-    if nuisance is not None:
-        JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)[rows]])
-    QB = _orth(JB)
-    E = null_draws(current, kin, null, n_draws, seed) if draws is None else draws
-    Er = E[:, rows].T
-    return QB, (Er - QB @ (QB.T @ Er) if QB.shape[1] else Er)
+class Views:
+    """Columns built from the kinematics as each null draw sees them (errors in variables).
+
+    The recording's columns (a candidate's Jacobian, a term of the library) are built from the
+    same estimated kinematics whose errors are in its residual, so the two are correlated: a column
+    that follows the acceleration's error gains from a correct model's residual. A draw reproduces
+    this only when its columns are built from the kinematics its residual was made through: the
+    reference path moved by ``kinematic_scale`` times the synthetic one's error, realisation by
+    realisation as the draw's blocks took them (``pick``)."""
+
+    def __init__(self, null: NullModel, kin, pick: np.ndarray):
+        pairs = null.kinematic_draws
+        self.ref = _as_kin(kin, pairs[0][1]) if pairs else kin
+        self.syn = [_as_kin(kin, syn) for syn, _ in pairs]
+        self.scale = float(null.kinematic_scale) if pairs else 0.0
+        self.pick = pick
+
+    def build(self, f, rows=None):
+        """``f(kin)`` (n x k, or n) on the reference and on every synthetic path: ``(ref, syn)``,
+        ``rows`` only, 2-D; ``syn`` is K x n_rows x k (empty without kinematic draws)."""
+        def one(k):
+            x = np.asarray(f(k), float)
+            x = x.reshape(x.shape[0], -1)
+            return x[rows] if rows is not None else x
+        ref = one(self.ref)
+        syn = np.stack([one(k) for k in self.syn]) if self.syn and self.scale > 0 else np.zeros((0,) + ref.shape)
+        return ref, syn
+
+    def at(self, built, d: int, rows=None) -> np.ndarray:
+        """Draw ``d``'s columns from :meth:`build`'s output (on ``rows`` when it was built on them)."""
+        ref, syn = built
+        if not syn.shape[0]:
+            return ref
+        p = self.pick[d] if rows is None else self.pick[d][rows]
+        return (1.0 - self.scale) * ref + self.scale * syn[p, np.arange(ref.shape[0])]
+
+
+class NullBasis:
+    """The current model's Jacobian basis, on the recording (``QB``) and on each draw's kinematics
+    (:meth:`Q`, with the ``nuisance`` columns), and every draw's residual on the training ``rows``
+    with its own basis projected out (``R``, rows x draws: what a refit leaves)."""
+
+    def __init__(self, current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None,
+                 draws: Draws | None = None):
+        n = kin.v.shape[0]
+        self.rows = rows
+        self.draws = sample(current, kin, null, n_draws, seed) if draws is None else draws
+        self.views = Views(null, kin, self.draws.pick)
+        everywhere = np.ones(n, bool)
+        self.JB_all = self.views.build(lambda k: jacobian(current, base_specs, k, everywhere))
+        self.nuisance = None if nuisance is None else np.asarray(nuisance, float).reshape(n, -1)
+        JB = jacobian(current, base_specs, kin, rows)
+        self.QB = _orth(self._with_nuisance(JB, rows))
+        self._Q = [self._basis(d).astype(np.float32) for d in range(n_draws)]
+        Er = self.draws.E[:, rows]
+        self.R = np.column_stack([Er[d] - self._Q[d] @ (self._Q[d].T @ Er[d]) if self._Q[d].shape[1] else Er[d]
+                                  for d in range(n_draws)])
+
+    def _with_nuisance(self, JB, rows):
+        return JB if self.nuisance is None else np.column_stack([JB, self.nuisance[rows]])
+
+    def _basis(self, d):
+        ref, syn = self.JB_all
+        JB = self.views.at((ref[self.rows], syn[:, self.rows] if syn.shape[0] else syn), d, self.rows)
+        return _orth(self._with_nuisance(JB, self.rows))
+
+    def Q(self, d: int) -> np.ndarray:
+        return self._Q[d]
+
+    def JB_at(self, d: int) -> np.ndarray:
+        """Draw ``d``'s baseline Jacobian (and nuisance) on every sample."""
+        return self._with_nuisance(self.views.at(self.JB_all, d), slice(None))
+
+    @property
+    def n_draws(self) -> int:
+        return len(self._Q)
 
 
 def chi2_log_sf(x: np.ndarray, T: np.ndarray) -> np.ndarray:
@@ -272,19 +359,26 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
     residual = np.asarray(ctx_obs.residual, float)
     scales = ctx_obs.scales
     n = residual.size
-    QB, Rn = null_residuals(current, base_specs, kin, rows, null, n_draws, seed, nuisance)
+    nb = NullBasis(current, base_specs, kin, rows, null, n_draws, seed, nuisance)
+    QB, Rn, views = nb.QB, nb.R, nb.views
     r_obs = residual[rows][:, None]
 
     # each start's Jacobian made orthogonal to B, once: grid starts recur in every null draw
     cache: dict = {}
 
+    def trial_specs(guess):
+        trial = _trial(current, guess)
+        return trial, M.candidate_specs(trial, len(trial.candidates) - 1, scales)
+
     def basis(guess):
         key = _key(guess)
         if key not in cache:
-            trial = _trial(current, guess)
-            specs = M.candidate_specs(trial, len(trial.candidates) - 1, scales)
+            trial, specs = trial_specs(guess)
             cache[key] = _complement(QB, jacobian(trial, specs, kin, rows))
         return cache[key]
+
+    def draw_gain(d, X):
+        return float(_gains(nb.Q(d), X, Rn[:, d:d + 1])[0])
 
     names, obs, null_stats, best = [], [], [], []
     ctx_draws = None
@@ -309,19 +403,28 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
             todo = {}
             for gs in guesses_b:
                 for g in gs:
-                    if _key(g) not in cache:
-                        todo[_key(g)] = g
-            if todo:
-                trials = [_trial(current, g) for g in todo.values()]
-                specs = M.candidate_specs(trials[0], len(trials[0].candidates) - 1, scales)
-                for i0 in range(0, len(trials), JAC_BATCH):
-                    Js = jacobians(trials[i0:i0 + JAC_BATCH], specs, kin, rows)
-                    for key, Jc in zip(list(todo)[i0:i0 + JAC_BATCH], Js):
-                        cache[key] = _complement(QB, Jc)
-            g_null = np.array([max((float(_project(cache[_key(g)], Rn[:, b:b + 1])[0]) for g in gs), default=0.0)
-                               for b, gs in enumerate(guesses_b)])
+                    todo.setdefault(_key(g), g)
+            keys = list(todo)
+            g_null = np.zeros(n_draws)
+            trials = [_trial(current, g) for g in todo.values()]
+            specs = M.candidate_specs(trials[0], len(trials[0].candidates) - 1, scales) if trials else []
+            for i0 in range(0, len(trials), JAC_BATCH):
+                chunk = trials[i0:i0 + JAC_BATCH]
+                index = {key: i for i, key in enumerate(keys[i0:i0 + JAC_BATCH])}
+                ref = jacobians(chunk, specs, views.ref, rows)
+                syn = [jacobians(chunk, specs, kj, rows) for kj in views.syn] if views.scale > 0 else []
+                for b, gs in enumerate(guesses_b):
+                    for g in gs:
+                        i = index.get(_key(g))
+                        if i is not None:
+                            built = (ref[i], np.stack([s_[i] for s_ in syn]) if syn else np.zeros((0,) + ref[i].shape))
+                            g_null[b] = max(g_null[b], draw_gain(b, views.at(built, b, rows)))
         else:
-            g_null = np.max(np.stack([_project(basis(g), Rn) for g in guesses]), axis=0)
+            g_null = np.zeros(n_draws)
+            for g in guesses:
+                trial, specs = trial_specs(g)
+                built = views.build(lambda kk: jacobian(trial, specs, kk, rows))
+                g_null = np.maximum(g_null, [draw_gain(b, views.at(built, b, rows)) for b in range(n_draws)])
         names.append(name)
         obs.append(g_obs[k])
         null_stats.append(g_null)
