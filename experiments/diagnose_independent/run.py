@@ -145,6 +145,10 @@ SUPPLE = T.Plant(J=0.06, Fc=0.45, Fs=0.7, vs=0.07, sigma2=0.8, sigma0=110.0, sig
 LANKY = T.Plant(J=0.07, Fc=0.48, Fs=0.78, vs=0.075, sigma2=0.95, sigma0=190.0, sigma1=0.85)
 CHUNKY = T.Plant(J=0.42, Fc=1.7, Fs=2.25, vs=0.06, sigma2=1.9, sigma0=230.0, sigma1=1.9)
 POISED = T.Plant(J=0.14, Fc=0.65, Fs=1.0, vs=0.09, sigma2=1.25, sigma0=170.0, sigma1=1.15)
+# calib14's plants
+WIRY = T.Plant(J=0.08, Fc=0.52, Fs=0.85, vs=0.068, sigma2=1.0, sigma0=175.0, sigma1=0.9)
+BULKY = T.Plant(J=0.45, Fc=1.8, Fs=2.4, vs=0.07, sigma2=2.0, sigma0=250.0, sigma1=2.1)
+TRIM = T.Plant(J=0.17, Fc=0.7, Fs=1.05, vs=0.08, sigma2=1.2, sigma0=200.0, sigma1=1.2)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -180,7 +184,10 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "supple": (SUPPLE, T.VelocityPIController(kp=3.7, ki=22.0)),
           "lanky": (LANKY, T.VelocityPIController(kp=4.3, ki=26.0)),
           "chunky": (CHUNKY, T.VelocityPIController(kp=25.0, ki=152.0)),
-          "poised": (POISED, T.VelocityPIController(kp=8.5, ki=51.0))}
+          "poised": (POISED, T.VelocityPIController(kp=8.5, ki=51.0)),
+          "wiry": (WIRY, T.VelocityPIController(kp=4.8, ki=29.0)),
+          "bulky": (BULKY, T.VelocityPIController(kp=27.0, ki=160.0)),
+          "trim": (TRIM, T.VelocityPIController(kp=10.0, ki=60.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -218,7 +225,10 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "supple": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
         "lanky": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
         "chunky": T.PositionPIDController.tuned(0.42, 2.5, tf=0.005),
-        "poised": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003)}
+        "poised": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
+        "wiry": T.PositionPIDController.tuned(0.08, 3.5, tf=0.002),
+        "bulky": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
+        "trim": T.PositionPIDController.tuned(0.17, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -1287,6 +1297,50 @@ def fresh14_settings():
     return _refreshed("fresh14", _F14_FS, _F14_VARIED, 13100)
 
 
+# calib14's excitations: the six kinds with parameters no earlier set used
+CALIB14_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.045, 0.15, 0.52, 1.45, 3.3), "dwell": 2.7 if i % 2 else 2.4,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.0 + 0.45 * (i % 3), "f0": 0.045, "f1": 1.2, "duration": 37.0,
+                             "bias": 0.5 + 0.45 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.3 + 0.5 * (i % 2), "f0": 0.055, "f1": 0.9 + 0.45 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 37.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.2 * (i % 3), "frequency": 0.14 + 0.045 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -2.0, 1.5, -2.7, 2.2) if i % 2 else (-2.1, 2.7, -1.5, 2.4, -2.6, 1.4),
+                                 "move_time": 1.35 + 0.4 * (i % 2), "dwell": 2.1, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.055, 0.21, 0.68, 1.75, 3.4), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib14_settings(n: int = 40):
+    """A fourteenth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (WIRY, BULKY, TRIM), 260-860 Hz, torque noise 0.05-0.09 N*m, white in half
+    the rows and AR(1) of coefficient 0.45 or 0.6 in the other half, velocity noise 0.003-0.004
+    deg/s, quantisation 0.0008-0.0014 deg; seeds 13300 + i."""
+    return _effect_free_set("calib14", CALIB14_EXCITATIONS, ["wiry", "bulky", "trim"],
+                            [(True, True), (True, False), (False, True)], [260.0, 410.0, 530.0, 700.0, 860.0],
+                            [0.08, 0.05, 0.09], [0.0, 0.45, 0.0, 0.6], [0.003, 0.004], [0.0008, 0.0014],
+                            13300, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=1, tn_rule=(2, 3))
+
+
+# fresh15: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F15_FS = {"a": 325.0, "b": 445.0, "c": 275.0, "d": 565.0, "e": 395.0, "f": 345.0, "g": 455.0, "h": 315.0,
+           "i": 365.0}
+_F15_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.7},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] - 1.3}}
+
+
+def fresh15_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (13500 + k), with the gravity's phase, the asymmetry's sign and
+    the ripple's period and phase changed."""
+    return _refreshed("fresh15", _F15_FS, _F15_VARIED, 13500)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1299,6 +1353,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib11": calib11_settings, "fresh12": fresh12_settings,
             "calib12": calib12_settings, "fresh13": fresh13_settings,
             "calib13": calib13_settings, "fresh14": fresh14_settings,
+            "calib14": calib14_settings, "fresh15": fresh15_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1456,7 +1511,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside2", "calib6", "fresh7", "calib7",
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
-               "calib12", "fresh13", "calib13", "fresh14")
+               "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15")
 
 
 def main():
