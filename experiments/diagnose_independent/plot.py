@@ -7,7 +7,7 @@ the exact-verdict rate, and for effects outside the library the dependence the r
     python experiments/diagnose_independent/plot.py [--out experiments/diagnose_independent/results]
     python experiments/diagnose_independent/plot.py --new
 
-Writes ``summary.md`` (the tables quoted in docs/diagnosis.md) and ``null_floor_ratio.png``, or
+Writes ``summary.md`` (the tables quoted in docs/diagnosis_studies.md) and ``null_floor_ratio.png``, or
 with ``--new`` ``summary_rebuilt.md``.
 """
 
