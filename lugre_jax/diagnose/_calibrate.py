@@ -13,9 +13,12 @@ statistic's distribution follows by simulating that chain (a parametric bootstra
   Savitzky-Golay window), carried through the current model: the scatter a correct model keeps
   because its inputs are estimated, which a candidate must not be named for absorbing.
 
-Each draw is scored exactly as the recording: the same projections, and for candidates whose
-starting points are searched on the residual (a ripple's period, a resonance's frequency) the
-search is repeated on the draw's own residual, so the null includes the look-elsewhere effect.
+Each draw is scored as the recording is: its columns (the current model's basis, the candidates'
+Jacobians) are built through the kinematics its residual was made through (:class:`Views`: the
+recording's columns share its kinematic errors with its residual, and so must a draw's), and for
+candidates whose starting points are searched on the residual (a ripple's period, a resonance's
+frequency) the search is repeated on the draw's own residual, so the null includes the
+look-elsewhere effect.
 Family-wise control over the candidates of a step is Westfall-Young's min-P: each gain is put
 on the scale of its own null's tail probability, and a candidate's adjusted p-value is the share
 of draws whose smallest tail probability over all candidates is at most its own (:func:`min_p`).
