@@ -190,10 +190,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         L_ = views.at(lib, d)
         return [L_[:, widths[i]:widths[i + 1]] for i in range(len(groups))]
 
-    QB = nb.QB
-    JB = C.jacobian(model, specs, kin, np.ones(r.size, bool))  # all rows, for held-out prediction
-    if nuisance is not None:
-        JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(r.size, -1)])
+    QB, JB = nb.QB, nb.JB  # JB on every sample, for held-out prediction
     names = [g.name for g, _ in groups]
     chosen: list[tuple[TermGroup, np.ndarray]] = []
     chosen_i: list = []  # library index of each chosen group (None: the time line, at its frequency)

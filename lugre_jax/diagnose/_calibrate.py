@@ -207,13 +207,12 @@ class Views:
         self.scale = float(null.kinematic_scale) if pairs else 0.0
         self.pick = pick
 
-    def build(self, f, rows=None):
-        """``f(kin)`` (n x k, or n) on the reference and on every synthetic path: ``(ref, syn)``,
-        ``rows`` only, 2-D; ``syn`` is K x n_rows x k (empty without kinematic draws)."""
+    def build(self, f):
+        """``f(kin)`` (m x k, or m) on the reference and on every synthetic path: ``(ref, syn)``,
+        2-D; ``syn`` is K x m x k (empty without kinematic draws)."""
         def one(k):
             x = np.asarray(f(k), float)
-            x = x.reshape(x.shape[0], -1)
-            return x[rows] if rows is not None else x
+            return x.reshape(x.shape[0], -1)
         ref = one(self.ref)
         syn = np.stack([one(k) for k in self.syn]) if self.syn and self.scale > 0 else np.zeros((0,) + ref.shape)
         return ref, syn
@@ -228,44 +227,35 @@ class Views:
 
 
 class NullBasis:
-    """The current model's Jacobian basis, on the recording (``QB``) and on each draw's kinematics
-    (:meth:`Q`, with the ``nuisance`` columns), and every draw's residual on the training ``rows``
-    with its own basis projected out (``R``, rows x draws: what a refit leaves)."""
+    """The current model's Jacobian with the ``nuisance`` columns, on every sample of the recording
+    (``JB``) and of each draw's kinematics (:meth:`JB_at`); their orthonormal bases on the training
+    ``rows`` (``QB``, :meth:`Q`); and every draw's residual there with its own basis projected out
+    (``R``, rows x draws: what a refit leaves)."""
 
-    def __init__(self, current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None,
-                 draws: Draws | None = None):
+    def __init__(self, current, base_specs, kin, rows, null: NullModel, n_draws: int, seed: int, nuisance=None):
         n = kin.v.shape[0]
         self.rows = rows
-        self.draws = sample(current, kin, null, n_draws, seed) if draws is None else draws
+        self.draws = sample(current, kin, null, n_draws, seed)
         self.views = Views(null, kin, self.draws.pick)
         everywhere = np.ones(n, bool)
-        self.JB_all = self.views.build(lambda k: jacobian(current, base_specs, k, everywhere))
         self.nuisance = None if nuisance is None else np.asarray(nuisance, float).reshape(n, -1)
-        JB = jacobian(current, base_specs, kin, rows)
-        self.QB = _orth(self._with_nuisance(JB, rows))
-        self._Q = [self._basis(d).astype(np.float32) for d in range(n_draws)]
+        self.JB = self._with_nuisance(jacobian(current, base_specs, kin, everywhere))
+        self.QB = _orth(self.JB[rows])
+        self._JB_views = self.views.build(lambda k: jacobian(current, base_specs, k, everywhere))
+        self._Q = [_orth(self.JB_at(d)[rows]).astype(np.float32) for d in range(n_draws)]
         Er = self.draws.E[:, rows]
         self.R = np.column_stack([Er[d] - self._Q[d] @ (self._Q[d].T @ Er[d]) if self._Q[d].shape[1] else Er[d]
                                   for d in range(n_draws)])
 
-    def _with_nuisance(self, JB, rows):
-        return JB if self.nuisance is None else np.column_stack([JB, self.nuisance[rows]])
-
-    def _basis(self, d):
-        ref, syn = self.JB_all
-        JB = self.views.at((ref[self.rows], syn[:, self.rows] if syn.shape[0] else syn), d, self.rows)
-        return _orth(self._with_nuisance(JB, self.rows))
+    def _with_nuisance(self, JB):
+        return JB if self.nuisance is None else np.column_stack([JB, self.nuisance])
 
     def Q(self, d: int) -> np.ndarray:
         return self._Q[d]
 
     def JB_at(self, d: int) -> np.ndarray:
         """Draw ``d``'s baseline Jacobian (and nuisance) on every sample."""
-        return self._with_nuisance(self.views.at(self.JB_all, d), slice(None))
-
-    @property
-    def n_draws(self) -> int:
-        return len(self._Q)
+        return self._with_nuisance(self.views.at(self._JB_views, d))
 
 
 def chi2_log_sf(x: np.ndarray, T: np.ndarray) -> np.ndarray:
@@ -415,13 +405,13 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
                 chunk = trials[i0:i0 + JAC_BATCH]
                 index = {key: i for i, key in enumerate(keys[i0:i0 + JAC_BATCH])}
                 ref = jacobians(chunk, specs, views.ref, rows)
-                syn = [jacobians(chunk, specs, kj, rows) for kj in views.syn] if views.scale > 0 else []
+                syn = np.stack([jacobians(chunk, specs, kj, rows) for kj in views.syn]) if views.scale > 0 \
+                    else np.zeros((0,) + ref.shape)  # K x chunk x rows x k
                 for b, gs in enumerate(guesses_b):
                     for g in gs:
                         i = index.get(_key(g))
                         if i is not None:
-                            built = (ref[i], np.stack([s_[i] for s_ in syn]) if syn else np.zeros((0,) + ref[i].shape))
-                            g_null[b] = max(g_null[b], draw_gain(b, views.at(built, b, rows)))
+                            g_null[b] = max(g_null[b], draw_gain(b, views.at((ref[i], syn[:, i]), b, rows)))
         else:
             g_null = np.zeros(n_draws)
             for g in guesses:

@@ -720,6 +720,12 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
     return out
 
 
+def presliding_length(friction) -> float:
+    """A LuGre friction's pre-sliding length ``max(Fs, Fc)/sigma0``: the travel over which the
+    bristles deflect to their sliding level after a reversal."""
+    return max(float(friction.Fs), float(friction.Fc)) / float(friction.sigma0)
+
+
 def presliding_displacement(rec, Fs: float) -> float:
     """Median position travelled after a reversal until the torque has covered 63 % of its swing
     (the bristle deflection scale Fs/sigma0); 1e-3 of the position span if no clean reversal."""

@@ -20,7 +20,7 @@ import jax.scipy.linalg as jsl
 import numpy as np
 
 from ..friction import LuGre, Stribeck
-from ._model import AbstractCandidate, Terms, cparam, friction_torque
+from ._model import AbstractCandidate, Terms, cparam, friction_torque, presliding_length
 
 TWO_PI = 2 * np.pi
 
@@ -292,7 +292,7 @@ class Backlash(AbstractCandidate):
             # a gap narrower than the bristles' pre-sliding length acts within the same travel after
             # a reversal as the bristle state's own transition, where the inverse model's error
             # from the conditioned kinematics also lives: it cannot be told from either
-            x_pre = max(float(f.Fs), float(f.Fc)) / float(f.sigma0)
+            x_pre = presliding_length(f)
             if float(self.width) < x_pre:
                 return (f"width {float(self.width):.3g} below the bristles' pre-sliding length "
                         f"max(Fs, Fc)/sigma0 = {x_pre:.3g}")

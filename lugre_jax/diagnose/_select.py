@@ -250,7 +250,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
             # torque by inertia and by the controller too): with the fitted Fs/sigma0 the memory can
             # be longer, and then the fit is repeated without the samples it adds
             fmax = max(float(base.friction.Fs), float(base.friction.Fc))
-            forget_fit = bristle_memory(fmax / float(base.friction.sigma0), fmax, cond.torque_noise, cfg)
+            forget_fit = bristle_memory(M.presliding_length(base.friction), fmax, cond.torque_noise, cfg)
             wider = (unresolved_in | forget_after(events, crec.position, forget_fit)) if forget_fit > forget \
                 else unresolved
             if np.any(wider & ~unresolved):
