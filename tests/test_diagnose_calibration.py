@@ -317,15 +317,20 @@ def test_diagnose_cli_refuses_a_huge_csv_up_front(tmp_path):
 
 
 def test_null_draws_resolve_a_third_of_alpha():
-    """Each test is held at alpha/3 and its p-values step by 1/(draws + 1): the default number of
-    draws puts the smallest p-value at alpha/5 (99 at 0.05, 499 at 0.01), and a number that could
-    never reach alpha/3 is refused by name."""
+    """Each test is held at alpha/3 and its p-values step by 1/(draws + 1): under the null the
+    observed statistic's rank among draws + 1 exchangeable values is uniform, so the share of ranks
+    rejected is the test's size. With the default draws (119 at 0.05, 599 at 0.01, 59 at 0.1) it is
+    alpha/3 exactly, where 99 draws gave 0.6 alpha/3; a number that could never reach alpha/3 is
+    refused by name."""
     from lugre_jax.diagnose import DiagnoseConfig
+    from lugre_jax.diagnose._calibrate import rejects
 
-    for alpha, draws in ((0.05, 99), (0.01, 499), (0.1, 49)):
+    for alpha, draws in ((0.05, 119), (0.01, 599), (0.1, 59)):
         cfg = DiagnoseConfig(alpha=alpha)
-        assert cfg.draws == draws and 1.0 / (cfg.draws + 1) < alpha / 3
-        assert cfg.to_json()["null_draws"] == draws
+        assert cfg.draws == draws and cfg.to_json()["null_draws"] == draws
+        ranks = np.arange(1, draws + 2) / (draws + 1.0)
+        assert abs(np.mean(rejects(ranks, cfg.alpha_name)) - alpha / 3) < 1e-12
+    assert np.mean(rejects(np.arange(1, 101) / 100.0, 0.05 / 3)) == 0.01
     assert DiagnoseConfig(null_draws=60).draws == 60
     with pytest.raises(ValueError, match="null_draws: expected at least 60"):
         DiagnoseConfig(null_draws=59)

@@ -86,8 +86,11 @@ def test_null_independent_recording_gives_none_at_floor():
 @pytest.mark.parametrize("q", [0.0005, 0.005])
 def test_no_velocity_column_conditions_from_position(q):
     """An encoder only (no velocity column; 0.0005 and 0.005-deg steps): the kinematics come from
-    the position, the torque noise is estimated within 5 %, the baseline is within 10 % of its floor
-    and nothing is located."""
+    the position, the torque noise is estimated within 5 %, the baseline is within 10 % of its floor,
+    nothing is located and no candidate is named. The attribution is not asserted on this one
+    recording: at 0.005 deg its v|v| term sits at p_family 2/120, exactly alpha/3 (3/100 with 99
+    draws), where a calibrated test fires with that probability; its level is checked over many
+    recordings in test_diagnose_calibration."""
     g = T.generate(_short_staircase(1), (), sensors=T.Sensors(fs=100.0, velocity_column=False, quantisation=q),
                    seed=6)
     rec = g.to_recording()
@@ -98,7 +101,7 @@ def test_no_velocity_column_conditions_from_position(q):
     assert abs(b.torque_noise_nm / 0.08 - 1) < 0.05
     assert b.noise_floor_nm >= b.torque_noise_nm
     assert b.floor_ratio < 1.10, b
-    assert rep.verdict == "none", rep.mismatch
+    assert not rep.mismatch and rep.named == [], (rep.verdict, rep.mismatch)
 
 
 @pytest.mark.slow

@@ -241,7 +241,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         tests.append([{"signal": g.name, "gain_nm2": o, "gain_over_null_mean": float(zz), "p_raw": float(pr),
                        "p_family": float(pa)} for (g, _), o, zz, pr, pa in zip(cands, obs, z, p_raw, p_adj)])
         obs_a = np.asarray(obs)
-        sig = np.flatnonzero(p_adj < alpha)
+        sig = np.flatnonzero(C.rejects(p_adj, alpha))
         if sig.size == 0:
             break
         # as for the candidates: the significant groups in order of what they explain beyond their
@@ -266,7 +266,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves
             share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))
             least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
-            if new < after and p_held < alpha and share >= least:
+            if new < after and C.rejects(p_held, alpha) and share >= least:
                 taken = int(k), g, X, new, p_held, p_analytic, pred, beta
                 break
             tests[-1].append({"rejected": g.name,

@@ -275,6 +275,14 @@ def chi2_log_sf(x: np.ndarray, T: np.ndarray) -> np.ndarray:
     return np.where(ok, out, 0.0)
 
 
+def rejects(p, alpha: float):
+    """A permutation-style p-value ``(1 + count)/(draws + 1)`` rejects at ``p <= alpha``: its size is
+    then at most ``alpha`` (exactly ``alpha`` when ``alpha * (draws + 1)`` is a whole number, which
+    the default draws make of ``alpha/3``). The tolerance absorbs the rounding of ``2/120`` against
+    ``0.05/3``."""
+    return np.asarray(p) <= alpha * (1.0 + 1e-9)
+
+
 def min_p(obs: np.ndarray, T: np.ndarray):
     """Raw and family-wise p-values of the observed statistics ``obs`` against null draws ``T``
     (draws x tests), and each statistic over its null mean (``standardised``, for the report).

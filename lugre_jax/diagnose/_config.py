@@ -17,10 +17,12 @@ class DiagnoseConfig:
       over the residual tests), naming a candidate (each step's candidates against the simulated
       null, min-P) and attributing what remains to a term of the library (the same null, min-P);
       a recording is called ``none`` only if none of the three fires (Bonferroni over the three).
-    - ``null_draws`` (None: ``ceil(5/alpha) - 1``, 99 at the default alpha): simulated recordings
-      per test; p-values are multiples of 1/(null_draws + 1), and each test is held at a third of
-      ``alpha``, so the default puts the smallest p-value at ``alpha/5``; a given number must keep
-      1/(null_draws + 1) below ``alpha/3`` (fewer draws could never name anything).
+    - ``null_draws`` (None: ``ceil(6/alpha) - 1``, 119 at the default alpha): simulated recordings
+      per test; p-values are multiples of 1/(null_draws + 1) and each test is held at a third of
+      ``alpha``, so the default fits exactly two of those steps into ``alpha/3``: a test rejects at
+      p <= ``alpha/3`` and its size is ``alpha/3`` itself (with 99 draws only 1/100 fits, a size of
+      0.6 ``alpha/3``). A given number must keep 1/(null_draws + 1) below ``alpha/3`` (fewer draws
+      could never name anything).
     - ``max_terms`` (2): terms the attribution adds at most.
     - ``kinematic_draws`` (8): draws of the kinematics' errors (each a fresh conditioning of the
       recording); the torque noise is drawn afresh for every null draw, these are cycled. Eight
@@ -100,8 +102,8 @@ class DiagnoseConfig:
 
     @property
     def draws(self) -> int:
-        """The number of null draws used: ``null_draws``, or ``ceil(5/alpha) - 1``."""
-        return self.null_draws if self.null_draws is not None else math.ceil(5.0 / self.alpha - 1e-9) - 1
+        """The number of null draws used: ``null_draws``, or ``ceil(6/alpha) - 1``."""
+        return self.null_draws if self.null_draws is not None else math.ceil(6.0 / self.alpha - 1e-9) - 1
 
     @property
     def alpha_locate(self) -> float:

@@ -27,7 +27,7 @@ import numpy as np
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
-from ._calibrate import held_out_p
+from ._calibrate import held_out_p, rejects
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
 from ._report import Baseline, Diagnosis, DiagnosisArrays, Finding, Improved, RecordingInfo, Region
@@ -499,7 +499,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         # standardised gain would favour a one-shape candidate that takes a sliver of a larger effect
         excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
         order = np.argsort(-excess)
-        significant = [int(i) for i in order if test.p_adjusted[i] < cfg.alpha_name][: cfg.top_k]
+        significant = [int(i) for i in order if rejects(test.p_adjusted[i], cfg.alpha_name)][: cfg.top_k]
         r_cur_cv = None
         trials = []
         for i in significant:
@@ -531,7 +531,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
                 p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
                          if np.all(np.isfinite(r1_cv)) else 1.0)
-                if not (cv1 < cv_cur and v1 < v_cur and p_val < cfg.alpha_confirm):
+                if not (cv1 < cv_cur and v1 < v_cur and rejects(p_val, cfg.alpha_confirm)):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
                            f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
             k1 = len(space.specs) if not frozen else prep.k + sum(
