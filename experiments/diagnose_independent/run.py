@@ -145,10 +145,15 @@ SUPPLE = T.Plant(J=0.06, Fc=0.45, Fs=0.7, vs=0.07, sigma2=0.8, sigma0=110.0, sig
 LANKY = T.Plant(J=0.07, Fc=0.48, Fs=0.78, vs=0.075, sigma2=0.95, sigma0=190.0, sigma1=0.85)
 CHUNKY = T.Plant(J=0.42, Fc=1.7, Fs=2.25, vs=0.06, sigma2=1.9, sigma0=230.0, sigma1=1.9)
 POISED = T.Plant(J=0.14, Fc=0.65, Fs=1.0, vs=0.09, sigma2=1.25, sigma0=170.0, sigma1=1.15)
-# calib14's plants
-WIRY = T.Plant(J=0.08, Fc=0.52, Fs=0.85, vs=0.068, sigma2=1.0, sigma0=175.0, sigma1=0.9)
-BULKY = T.Plant(J=0.45, Fc=1.8, Fs=2.4, vs=0.07, sigma2=2.0, sigma0=250.0, sigma1=2.1)
+# calib14's plants (named apart from calib7's BULKY and calib8's WIRY, which they had replaced in
+# PLANTS and PIDS)
+WIRY14 = T.Plant(J=0.08, Fc=0.52, Fs=0.85, vs=0.068, sigma2=1.0, sigma0=175.0, sigma1=0.9)
+BULKY14 = T.Plant(J=0.45, Fc=1.8, Fs=2.4, vs=0.07, sigma2=2.0, sigma0=250.0, sigma1=2.1)
 TRIM = T.Plant(J=0.17, Fc=0.7, Fs=1.05, vs=0.08, sigma2=1.2, sigma0=200.0, sigma1=1.2)
+# calib15's plants
+SPARE = T.Plant(J=0.065, Fc=0.47, Fs=0.74, vs=0.072, sigma2=0.88, sigma0=165.0, sigma1=0.82)
+HUSKY = T.Plant(J=0.4, Fc=1.65, Fs=2.2, vs=0.082, sigma2=1.85, sigma0=270.0, sigma1=1.95)
+TIDY = T.Plant(J=0.15, Fc=0.68, Fs=0.98, vs=0.058, sigma2=1.15, sigma0=215.0, sigma1=1.25)
 PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_LIKE, T.VelocityPIController(kp=4.0, ki=20.0)),
           "light": (LIGHT, T.VelocityPIController(kp=2.5, ki=15.0)), "heavy": (HEAVY, T.VelocityPIController(kp=25.0, ki=150.0)),
           "medium": (MEDIUM, T.VelocityPIController(kp=12.0, ki=80.0)), "flat": (FLAT, T.VelocityPIController(kp=5.0, ki=30.0)),
@@ -185,9 +190,12 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "lanky": (LANKY, T.VelocityPIController(kp=4.3, ki=26.0)),
           "chunky": (CHUNKY, T.VelocityPIController(kp=25.0, ki=152.0)),
           "poised": (POISED, T.VelocityPIController(kp=8.5, ki=51.0)),
-          "wiry": (WIRY, T.VelocityPIController(kp=4.8, ki=29.0)),
-          "bulky": (BULKY, T.VelocityPIController(kp=27.0, ki=160.0)),
-          "trim": (TRIM, T.VelocityPIController(kp=10.0, ki=60.0))}
+          "wiry14": (WIRY14, T.VelocityPIController(kp=4.8, ki=29.0)),
+          "bulky14": (BULKY14, T.VelocityPIController(kp=27.0, ki=160.0)),
+          "trim": (TRIM, T.VelocityPIController(kp=10.0, ki=60.0)),
+          "spare": (SPARE, T.VelocityPIController(kp=3.9, ki=23.5)),
+          "husky": (HUSKY, T.VelocityPIController(kp=24.0, ki=145.0)),
+          "tidy": (TIDY, T.VelocityPIController(kp=9.0, ki=54.0))}
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
 PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
@@ -226,9 +234,12 @@ PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.Positi
         "lanky": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
         "chunky": T.PositionPIDController.tuned(0.42, 2.5, tf=0.005),
         "poised": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
-        "wiry": T.PositionPIDController.tuned(0.08, 3.5, tf=0.002),
-        "bulky": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
-        "trim": T.PositionPIDController.tuned(0.17, 3.0, tf=0.003)}
+        "wiry14": T.PositionPIDController.tuned(0.08, 3.5, tf=0.002),
+        "bulky14": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
+        "trim": T.PositionPIDController.tuned(0.17, 3.0, tf=0.003),
+        "spare": T.PositionPIDController.tuned(0.065, 3.5, tf=0.002),
+        "husky": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
+        "tidy": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003)}
 
 
 def controller_of(job):
@@ -1316,10 +1327,10 @@ CALIB14_EXCITATIONS = {
 def calib14_settings(n: int = 40):
     """A fourteenth effect-free set (issue #30), fixed and committed before its first run: the six
     excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
-    earlier set used (WIRY, BULKY, TRIM), 260-860 Hz, torque noise 0.05-0.09 N*m, white in half
+    earlier set used (WIRY14, BULKY14, TRIM), 260-860 Hz, torque noise 0.05-0.09 N*m, white in half
     the rows and AR(1) of coefficient 0.45 or 0.6 in the other half, velocity noise 0.003-0.004
     deg/s, quantisation 0.0008-0.0014 deg; seeds 13300 + i."""
-    return _effect_free_set("calib14", CALIB14_EXCITATIONS, ["wiry", "bulky", "trim"],
+    return _effect_free_set("calib14", CALIB14_EXCITATIONS, ["wiry14", "bulky14", "trim"],
                             [(True, True), (True, False), (False, True)], [260.0, 410.0, 530.0, 700.0, 860.0],
                             [0.08, 0.05, 0.09], [0.0, 0.45, 0.0, 0.6], [0.003, 0.004], [0.0008, 0.0014],
                             13300, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=1, tn_rule=(2, 3))
@@ -1341,6 +1352,78 @@ def fresh15_settings():
     return _refreshed("fresh15", _F15_FS, _F15_VARIED, 13500)
 
 
+# calib15's excitations: the six kinds with parameters no earlier set used
+CALIB15_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.04, 0.13, 0.48, 1.35, 3.1), "dwell": 2.6 if i % 2 else 2.9,
+                            "transition": 0.32, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.5 * (i % 3), "f0": 0.048, "f1": 1.3, "duration": 36.0,
+                             "bias": 0.55 + 0.4 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.55 * (i % 2), "f0": 0.052, "f1": 1.0 + 0.35 * (i % 3),
+                            "n": 12 + 2 * (i % 2), "duration": 36.0},
+    "position_sine": lambda i: {"amplitude": 2.4 + 2.4 * (i % 3), "frequency": 0.15 + 0.04 * (i % 2),
+                                "duration": 32.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.5, 1.6, -2.9, 2.1) if i % 2 else (-2.4, 2.2, -1.3, 2.8, -2.0, 1.5),
+                                 "move_time": 1.25 + 0.5 * (i % 2), "dwell": 2.3, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.19, 0.62, 1.9, 3.6), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib15_settings(n: int = 40):
+    """A fifteenth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (SPARE, HUSKY, TIDY), 280-840 Hz, torque noise 0.05-0.085 N*m, white in half
+    the rows and AR(1) of coefficient 0.4 or 0.62 in the other half, velocity noise 0.0028-0.0042
+    deg/s, quantisation 0.0007-0.0013 deg; seeds 13700 + i."""
+    return _effect_free_set("calib15", CALIB15_EXCITATIONS, ["spare", "husky", "tidy"],
+                            [(True, False), (False, True), (True, True)], [280.0, 390.0, 560.0, 680.0, 840.0],
+                            [0.065, 0.085, 0.05], [0.0, 0.4, 0.0, 0.62], [0.0028, 0.0042], [0.0007, 0.0013],
+                            13700, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 5))
+
+
+# fresh16: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F16_FS = {"a": 335.0, "b": 465.0, "c": 285.0, "d": 585.0, "e": 405.0, "f": 355.0, "g": 475.0, "h": 305.0,
+           "i": 375.0}
+_F16_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.5},
+               "position_ripple": lambda kw: kw | {"period": 1.05 * kw["period"], "phase": kw["phase"] + 0.8}}
+
+
+def fresh16_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (13900 + k), with the gravity's phase and the ripple's period and
+    phase changed."""
+    return _refreshed("fresh16", _F16_FS, _F16_VARIED, 13900)
+
+
+# outside6: outside5's rows on calib15's plants (SPARE for LITHE, HUSKY for HULKING, TIDY for STEADY),
+# at excitation parameters, rates and seeds no earlier set used
+_OUT6_RECIPES = {
+    "a": ("spare", "pi", "multisine", {"amplitude": 2.3, "f0": 0.052, "f1": 1.75, "n": 12, "duration": 45.0},
+          560.0, 0.06, 0.0, 0.003, 0.0009, True, True),
+    "b": ("husky", "pid", "point_to_point", {"amplitudes": (2.7, -3.2, 3.8, -2.4, -2.2, 3.1), "move_time": 1.4,
+                                            "dwell": 2.5, "repeats": 2}, 430.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("spare", "pi", "staircase", {"speeds": (0.045, 0.17, 0.75, 2.6, 6.0, 8.5), "dwell": 3.6,
+                                      "transition": 0.4, "repeats": 1}, 345.0, 0.05, 0.0, 0.003, 0.0011, True, True),
+    "d": ("tidy", "pid", "sine_sweep", {"amplitude": 3.0, "f0": 0.052, "f1": 1.35, "duration": 49.0, "bias": 0.6},
+          420.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("husky", "pi", "multisine", {"amplitude": 2.1, "f0": 0.058, "f1": 1.6, "n": 11, "duration": 45.0},
+          530.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("tidy", "pid", "point_to_point", {"amplitudes": (-2.2, 4.3, -3.3, 2.6, 3.8, -2.9), "move_time": 1.3,
+                                           "dwell": 2.5, "repeats": 2}, 375.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("husky", "pid_nff", "point_to_point", {"amplitudes": (2.9, -4.3, 2.2, -3.1, 2.4, 1.6), "move_time": 1.6,
+                                                "dwell": 2.6, "repeats": 2}, 335.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("spare", "pi", "staircase", {"speeds": (0.045, 0.15, 0.52, 1.75, 4.2), "dwell": 4.0, "transition": 0.4,
+                                      "repeats": 1}, 235.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside6_settings():
+    """A sixth outside set (issue #31), fixed and committed before its first run: outside5's rows
+    (the four effects outside the candidates, two recordings each) on calib15's plants, at
+    excitation parameters, rates and seeds (14100 + k) no earlier set used."""
+    return _outside_set("outside6_", OUTSIDE5_ROWS, _OUT6_RECIPES, 14100)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1354,6 +1437,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib12": calib12_settings, "fresh13": fresh13_settings,
             "calib13": calib13_settings, "fresh14": fresh14_settings,
             "calib14": calib14_settings, "fresh15": fresh15_settings,
+            "calib15": calib15_settings, "fresh16": fresh16_settings, "outside6": outside6_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1476,6 +1560,17 @@ def run_new(job, top_k, cache=None):
            "baseline": _plain(b), "missing_physics": [_plain(m) for m in rep.missing_physics],
            "seconds_diagnose": secs}
     row["correct"] = rep.verdict == job["expected"]
+    # what a miss is made of: the baseline's residual less the true torque noise (the effect it left,
+    # with the kinematics' imprint), RMS over resolved training rows in noise std, and the first
+    # step's tests and refits as the report logs them
+    r0, noise = np.asarray(rep.arrays.r0), g.true.get("torque_noise")
+    if noise is not None and len(noise) == len(r0):
+        train = (r0 != 0) & ~np.asarray(rep.arrays.val)
+        row["baseline_misfit_over_noise"] = float(np.sqrt(np.mean((r0 - np.asarray(noise))[train] ** 2))
+                                                  / g.torque_noise_std)
+    if rep.selection_log:
+        row["step1_tests"] = rep.selection_log[0]["tests"]
+        row["step1_refits"] = rep.selection_log[0]["joint_refits"]
     return row
 
 
@@ -1511,7 +1606,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside2", "calib6", "fresh7", "calib7",
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
-               "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15")
+               "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
+               "outside6")
 
 
 def main():
