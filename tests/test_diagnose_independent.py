@@ -101,7 +101,7 @@ def test_no_velocity_column_conditions_from_position(q):
     assert abs(b.torque_noise_nm / 0.08 - 1) < 0.05
     assert b.noise_floor_nm >= b.torque_noise_nm
     assert b.floor_ratio < 1.10, b
-    assert not rep.mismatch and rep.named == [], (rep.verdict, rep.mismatch)
+    assert not rep.mismatch and set(rep.named) <= {"unexplained"}, (rep.verdict, rep.mismatch)
 
 
 @pytest.mark.slow
