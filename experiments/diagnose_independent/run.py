@@ -1424,6 +1424,102 @@ def outside6_settings():
     return _outside_set("outside6_", OUTSIDE5_ROWS, _OUT6_RECIPES, 14100)
 
 
+# fresh17: fresh3's effect recipes at sampling rates and seeds no earlier set used, the effects'
+# phases, signs and ripple periods changed again where that leaves their size alone
+_F17_FS = {"a": 315.0, "b": 485.0, "c": 295.0, "d": 545.0, "e": 415.0, "f": 365.0, "g": 435.0, "h": 325.0,
+           "i": 385.0}
+_F17_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.1},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 2.1}}
+
+
+def fresh17_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows at
+    other sampling rates and seeds (14300 + k), with the gravity's phase, the asymmetry's sign and
+    the ripple's period and phase changed."""
+    return _refreshed("fresh17", _F17_FS, _F17_VARIED, 14300)
+
+
+# outside7: outside5's rows on calib14's plants (WIRY14 for LITHE, BULKY14 for HULKING, TRIM for STEADY),
+# at excitation parameters, rates and seeds no earlier set used
+_OUT7_RECIPES = {
+    "a": ("wiry14", "pi", "multisine", {"amplitude": 2.4, "f0": 0.055, "f1": 1.65, "n": 13, "duration": 44.0},
+          545.0, 0.06, 0.0, 0.003, 0.0009, True, True),
+    "b": ("bulky14", "pid", "point_to_point", {"amplitudes": (3.1, -2.6, 3.5, -3.3, -1.9, 2.8), "move_time": 1.45,
+                                              "dwell": 2.4, "repeats": 2}, 445.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("wiry14", "pi", "staircase", {"speeds": (0.04, 0.16, 0.8, 2.4, 5.5, 8.0), "dwell": 3.7,
+                                       "transition": 0.4, "repeats": 1}, 355.0, 0.05, 0.0, 0.003, 0.0011, True, True),
+    "d": ("trim", "pid", "sine_sweep", {"amplitude": 3.1, "f0": 0.05, "f1": 1.4, "duration": 50.0, "bias": 0.55},
+          410.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("bulky14", "pi", "multisine", {"amplitude": 2.2, "f0": 0.056, "f1": 1.55, "n": 10, "duration": 46.0},
+          515.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("trim", "pid", "point_to_point", {"amplitudes": (-2.6, 3.9, -3.6, 2.2, 4.1, -2.7), "move_time": 1.35,
+                                           "dwell": 2.6, "repeats": 2}, 365.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("bulky14", "pid_nff", "point_to_point", {"amplitudes": (3.3, -4.1, 2.4, -2.9, 2.6, 1.4), "move_time": 1.55,
+                                                  "dwell": 2.7, "repeats": 2}, 325.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("wiry14", "pi", "staircase", {"speeds": (0.05, 0.14, 0.55, 1.8, 4.4), "dwell": 4.2, "transition": 0.4,
+                                       "repeats": 1}, 245.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside7_settings():
+    """A seventh outside set (issue #31), fixed and committed before its first run: outside5's rows
+    (the four effects outside the candidates, two recordings each) on calib14's plants, at
+    excitation parameters, rates and seeds (14500 + k) no earlier set used."""
+    return _outside_set("outside7_", OUTSIDE5_ROWS, _OUT7_RECIPES, 14500)
+
+
+# calib16's plants
+LEAN = T.Plant(J=0.075, Fc=0.5, Fs=0.8, vs=0.066, sigma2=0.92, sigma0=185.0, sigma1=0.88)
+BEEFY = T.Plant(J=0.43, Fc=1.75, Fs=2.3, vs=0.076, sigma2=1.95, sigma0=245.0, sigma1=2.0)
+NEAT = T.Plant(J=0.16, Fc=0.72, Fs=1.02, vs=0.062, sigma2=1.18, sigma0=205.0, sigma1=1.2)
+
+
+def _add_plants(plants: dict, pids: dict):
+    """New plants and their position PIDs, refused if a name is taken (a repeated key in a dict
+    literal silently replaces the earlier plant, and an older set would no longer regenerate)."""
+    taken = (set(plants) & set(PLANTS)) | (set(pids) & set(PIDS))
+    if taken or set(plants) != set(pids):
+        raise ValueError(f"plant names taken or unpaired: {sorted(taken or set(plants) ^ set(pids))}")
+    PLANTS.update(plants)
+    PIDS.update(pids)
+
+
+_add_plants({"lean": (LEAN, T.VelocityPIController(kp=3.2, ki=19.0)),
+             "beefy": (BEEFY, T.VelocityPIController(kp=30.0, ki=175.0)),
+             "neat": (NEAT, T.VelocityPIController(kp=10.5, ki=62.0))},
+            {"lean": T.PositionPIDController.tuned(0.075, 3.5, tf=0.002),
+             "beefy": T.PositionPIDController.tuned(0.43, 2.5, tf=0.005),
+             "neat": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003)})
+
+# calib16's excitations: the six kinds with parameters no earlier set used
+CALIB16_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.035, 0.12, 0.52, 1.45, 3.3), "dwell": 2.7 if i % 2 else 3.0,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.7 + 0.55 * (i % 3), "f0": 0.046, "f1": 1.25, "duration": 37.0,
+                             "bias": 0.6 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.5 * (i % 2), "f0": 0.054, "f1": 1.05 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 37.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.2 * (i % 3), "frequency": 0.14 + 0.05 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.1, -2.7, 1.7, -2.6, 2.4) if i % 2 else (-2.2, 2.5, -1.4, 2.6, -2.3, 1.3),
+                                 "move_time": 1.3 + 0.45 * (i % 2), "dwell": 2.4, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.055, 0.2, 0.66, 1.8, 3.4), "dwell": 2.45, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib16_settings(n: int = 40):
+    """A sixteenth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (LEAN, BEEFY, NEAT), 290-820 Hz, torque noise 0.055-0.08 N*m, white in half
+    the rows and AR(1) of coefficient 0.42 or 0.58 in the other half, velocity noise 0.003-0.0045
+    deg/s, quantisation 0.00075-0.0012 deg; seeds 14700 + i."""
+    return _effect_free_set("calib16", CALIB16_EXCITATIONS, ["lean", "beefy", "neat"],
+                            [(False, True), (True, True), (True, False)], [290.0, 430.0, 575.0, 705.0, 820.0],
+                            [0.08, 0.055, 0.07], [0.0, 0.42, 0.0, 0.58], [0.003, 0.0045], [0.00075, 0.0012],
+                            14700, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=1, tn_rule=(2, 3))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1438,6 +1534,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib13": calib13_settings, "fresh14": fresh14_settings,
             "calib14": calib14_settings, "fresh15": fresh15_settings,
             "calib15": calib15_settings, "fresh16": fresh16_settings, "outside6": outside6_settings,
+            "fresh17": fresh17_settings, "outside7": outside7_settings, "calib16": calib16_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1607,7 +1704,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
-               "outside6")
+               "outside6", "fresh17", "outside7", "calib16")
 
 
 def main():

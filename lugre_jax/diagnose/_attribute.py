@@ -210,7 +210,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         have_line = TIME_LINE.name in [c[0].name for c in chosen]
         line_X = None
         if not have_line:
-            f_obs = float(_time_line_freqs(t, r[None, :], rows)[0])
+            # searched on the training samples, as on every null draw (the held-out ones stay unseen)
+            f_obs = float(_time_line_freqs(t, np.where(rows, r, 0.0)[None, :], rows)[0])
             line_X = _sincos(t, f_obs)
             full = np.zeros((n_draws, r.size))
             full[:, rows] = Rn.T
@@ -289,3 +290,42 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
                       "p_held_out_analytic": float(p_analytic)})
         after = new
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))
+
+
+
+
+def _line_on(t, r, mask):
+    """The time line at the strongest frequency of ``r`` on the samples ``mask`` (0 elsewhere, as
+    the null draws are)."""
+    return _sincos(t, float(_time_line_freqs(t, np.where(mask, r, 0.0)[None, :], mask)[0]))
+
+
+def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,
+           nuisance=None) -> list:
+    """Every library group and the time line as a rival explanation of the current residual
+    ``ctx.residual``: ``(group, cross-validated residual)``, each phase of ``folds`` predicted by
+    the term with the current model's linearised refit (its Jacobian and the ``nuisance``
+    columns) fitted on the other kept samples, the time line's frequency searched on those
+    samples too; 0 elsewhere. A candidate is compared with these by :func:`._calibrate.held_out_p`
+    on the same phases as its own cross-validated residual."""
+    r = np.asarray(ctx.residual, float)
+    t = np.asarray(ctx.rec.time, float)
+    n = r.size
+    tau_model = np.asarray(M._parts(model, kin)[2])
+    groups = [(g, X) for g, X in library(ctx, kin, tau_model, window)
+              if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)] + [(TIME_LINE, None)]
+    JB = C.jacobian(model, specs, kin, np.ones(n, bool))
+    if nuisance is not None:
+        JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)])
+    phase = blocks % M.VALIDATION_EVERY
+    out = []
+    for g, X in groups:
+        cv = np.zeros(n)
+        for j in folds:
+            fold = keep & (phase == j)
+            fit = keep & ~fold
+            D = np.column_stack([JB, X if X is not None else _line_on(t, r, fit)])
+            beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
+            cv[fold] = (r - D @ beta)[fold]
+        out.append((g, cv))
+    return out

@@ -44,6 +44,11 @@ class DiagnoseConfig:
       adding nothing to held-out prediction, at ``alpha`` (one test per step needs no correction
       over tries). A held-out comparison has about half the z of the in-sample gain for the same
       effect, so a stricter share of ``alpha`` would cost most of the power at the concealed level.
+    - The rival test (no number of its own): a candidate that passed the held-out test is not named
+      when a term of the attribution library (with the model's linearised refit) predicts the same
+      cross-validated phases better, one-sided, Bonferroni over the terms at ``alpha_name``. A
+      physics outside the eight that a candidate partly absorbs is then left to the attribution; a
+      correct candidate loses its name this way at most at ``alpha_name``.
     - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
     - ``identifiability_z`` (3.0): a named effect's key parameter must be this many standard errors
       from its no-effect value in the joint fit (a candidate the excitation cannot determine is not

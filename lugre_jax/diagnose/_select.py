@@ -27,6 +27,7 @@ import numpy as np
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
+from ._attribute import rivals
 from ._calibrate import held_out_p, rejects
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
@@ -474,8 +475,9 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
     are refitted jointly with the current model, and the first that is plausible and identifiable is
     held out: accepted when it lowers the held-out error (cross-validated over the block phases,
-    significantly at ``cfg.alpha_confirm``, and on the fixed phase). Stops when no candidate is
-    significant, none is plausible and identifiable, or the held-out test fails."""
+    significantly at ``cfg.alpha_confirm``, and on the fixed phase) and no term of the attribution
+    library predicts those phases significantly better (:func:`~._attribute.rivals`). Stops when no
+    candidate is significant, none is plausible and identifiable, or the held-out test fails."""
     from tqdm.auto import tqdm
 
     from ._calibrate import test_candidates
@@ -500,7 +502,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
         order = np.argsort(-excess)
         significant = [int(i) for i in order if rejects(test.p_adjusted[i], cfg.alpha_name)][: cfg.top_k]
-        r_cur_cv = None
+        r_cur_cv = rivals_step = None
         trials = []
         for i in significant:
             name = test.names[i]
@@ -521,6 +523,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 why = (f"not identifiable on this excitation: its parameters are within "
                        f"{zmax:.2g} standard errors of no effect")
             cv_cur = cv1 = p_val = None
+            riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
             v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
             if why is None:
                 if r_cur_cv is None:
@@ -534,6 +537,22 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 if not (cv1 < cv_cur and v1 < v_cur and rejects(p_val, cfg.alpha_confirm)):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
                            f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
+            if why is None:
+                # physics outside the eight that the candidate partly absorbs: a library term
+                # predicts the held-out blocks significantly better than the candidate (one-sided,
+                # Bonferroni over the terms at the naming test's share of alpha)
+                if rivals_step is None:
+                    rivals_step = rivals(current, specs_cur, ctx, kin, keep, split.blocks, split.folds,
+                                         _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"])
+                if rivals_step:
+                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
+                    best = int(np.argmin(p_under))
+                    g_riv, r_riv = rivals_step[best]
+                    riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _val_rmse(r_riv, split.cv_mask),
+                           "p_rival": min(1.0, len(p_under) * float(p_under[best]))}
+                    if rejects(riv["p_rival"], cfg.alpha_name):
+                        why = (f"the library's {g_riv.name} term predicts the held-out blocks better (cross-validated "
+                               f"{cv1:.4g} -> {riv['cv_rmse_rival_nm']:.4g}, p {riv['p_rival']:.3g})")
             k1 = len(space.specs) if not frozen else prep.k + sum(
                 len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
             sse1 = _sse(r1, w)
@@ -544,7 +563,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                            "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
                            "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
                            "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
-                           "identifiability_z": zmax, "rejected_because": why})
+                           "identifiability_z": zmax, "rejected_because": why} | riv)
             if why is None or p_val is not None:
                 # one held-out test per step (p_val is set once a candidate is held out): the first
                 # plausible, identifiable candidate's result is the step's, so the test's alpha
@@ -556,6 +575,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                     "joint_refits": [{k: t[k] for k in ("name", "p_family", "delta_bic", "p_validation",
                                                          "validation_rmse_nm", "validation_rmse_before_nm",
                                                          "cv_rmse_nm", "cv_rmse_before_nm", "identifiability_z",
+                                                         "rival", "cv_rmse_rival_nm", "p_rival",
                                                          "rejected_because")} for t in trials]})
         ok = [t for t in trials if t["rejected_because"] is None]
         if not ok:
@@ -604,12 +624,17 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
                    t_start)
 
 
+def _window(prep) -> int:
+    """The smoothing window of the attribution's derivatives: the conditioning's."""
+    return prep.cond.window if prep.cond.source != "recording" else 5
+
+
 def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
     """What the residual left by the selection follows, from the term library (:mod:`._attribute`)."""
     from ._attribute import attribute
 
     ctx = _context(prep, split, floor, model, r)
-    window = prep.cond.window if prep.cond.source != "recording" else 5
+    window = _window(prep)
     return attribute(model, _all_specs(model, floor.scales, fit_offset, freeze_baseline=frozen), ctx, prep.kin, split.rows,
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
