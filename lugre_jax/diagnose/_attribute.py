@@ -292,8 +292,6 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))
 
 
-
-
 def _line_on(t, r, mask):
     """The time line at the strongest frequency of ``r`` on the samples ``mask`` (0 elsewhere, as
     the null draws are)."""
