@@ -162,6 +162,20 @@ class Attribution:
 ACCELERATION_GROUPS = ("torque_rate", "jerk", "transmitted_torque")
 
 
+def groups_on(model, ctx, kin, window: int, quantised_derivatives: bool) -> list[tuple[TermGroup, np.ndarray]]:
+    """The library along the kinematics ``kin`` for ``model``'s torque, without the
+    :data:`ACCELERATION_GROUPS` when the derivatives are of a quantised position."""
+    tau_model = np.asarray(M._parts(model, kin)[2])
+    return [(g, X) for g, X in library(ctx, kin, tau_model, window)
+            if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
+
+
+def _line_frequency(t, r, mask) -> float:
+    """The time line's frequency: the strongest of ``r`` on the samples ``mask`` (0 elsewhere, as
+    on the null draws, so that samples held out stay unseen)."""
+    return float(_time_line_freqs(t, np.where(mask, r, 0.0)[None, :], mask)[0])
+
+
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
               at_floor_nm: float | None = None) -> Attribution:
@@ -175,9 +189,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     t = np.asarray(ctx.rec.time, float)
 
     def terms_on(k):
-        tau_model = np.asarray(M._parts(model, k)[2])
-        return [(g, X) for g, X in library(ctx, k, tau_model, window)
-                if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
+        return groups_on(model, ctx, k, window, quantised_derivatives)
 
     groups = terms_on(kin)
     widths = np.cumsum([0] + [X.shape[1] for _, X in groups])
@@ -210,8 +222,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         have_line = TIME_LINE.name in [c[0].name for c in chosen]
         line_X = None
         if not have_line:
-            # searched on the training samples, as on every null draw (the held-out ones stay unseen)
-            f_obs = float(_time_line_freqs(t, np.where(rows, r, 0.0)[None, :], rows)[0])
+            f_obs = _line_frequency(t, r, rows)
             line_X = _sincos(t, f_obs)
             full = np.zeros((n_draws, r.size))
             full[:, rows] = Rn.T
@@ -292,12 +303,6 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))
 
 
-def _line_on(t, r, mask):
-    """The time line at the strongest frequency of ``r`` on the samples ``mask`` (0 elsewhere, as
-    the null draws are)."""
-    return _sincos(t, float(_time_line_freqs(t, np.where(mask, r, 0.0)[None, :], mask)[0]))
-
-
 def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,
            nuisance=None) -> list:
     """Every library group and the time line as a rival explanation of the current residual
@@ -309,9 +314,7 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
     n = r.size
-    tau_model = np.asarray(M._parts(model, kin)[2])
-    groups = [(g, X) for g, X in library(ctx, kin, tau_model, window)
-              if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)] + [(TIME_LINE, None)]
+    groups = groups_on(model, ctx, kin, window, quantised_derivatives) + [(TIME_LINE, None)]
     JB = C.jacobian(model, specs, kin, np.ones(n, bool))
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)])
@@ -322,7 +325,7 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
         for j in folds:
             fold = keep & (phase == j)
             fit = keep & ~fold
-            D = np.column_stack([JB, X if X is not None else _line_on(t, r, fit)])
+            D = np.column_stack([JB, X if X is not None else _sincos(t, _line_frequency(t, r, fit))])
             beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
             cv[fold] = (r - D @ beta)[fold]
         out.append((g, cv))
