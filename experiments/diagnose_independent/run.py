@@ -1520,6 +1520,50 @@ def calib16_settings(n: int = 40):
                             14700, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=1, tn_rule=(2, 3))
 
 
+# calib17 and fresh18: the rates, noise colours and lengths no earlier set reached (100-160 Hz and
+# 1.2-2 kHz, AR(1) coefficients 0.8 and 0.9, up to ~100,000 samples)
+CALIB17_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.045, 0.15, 0.6, 1.7, 3.9), "dwell": 3.3 if i % 2 else 3.6,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.45 * (i % 3), "f0": 0.052, "f1": 1.35, "duration": 42.0,
+                             "bias": 0.5 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.4 + 0.4 * (i % 2), "f0": 0.058, "f1": 1.15 + 0.25 * (i % 3),
+                            "n": 10 + 3 * (i % 2), "duration": 42.0},
+    "position_sine": lambda i: {"amplitude": 3.1 + 1.8 * (i % 3), "frequency": 0.13 + 0.06 * (i % 2),
+                                "duration": 38.0},
+    "point_to_point": lambda i: {"amplitudes": (2.6, -2.2, 1.5, -2.9, 2.0) if i % 2 else (-2.5, 2.8, -1.6, 2.3, -2.0, 1.1),
+                                 "move_time": 1.4 + 0.4 * (i % 2), "dwell": 2.5, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.06, 0.22, 0.7, 1.9, 3.6), "dwell": 2.6, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib17_settings(n: int = 30):
+    """A seventeenth effect-free set (issue #30), fixed and committed before its first run, on the
+    axes no earlier set reached: 100-160 Hz and 1.2-2 kHz, torque noise white or AR(1) of
+    coefficient 0.8 or 0.9, up to ~100,000 samples; the six excitation kinds with other parameters
+    x both loops x the three sensor sets (encoder only, velocity only, both), on calib14's plants (WIRY14, BULKY14, TRIM), torque noise
+    0.05-0.08 N*m, velocity noise 0.002-0.005 deg/s, quantisation 0.0005-0.0015 deg; seeds 14900 + i."""
+    return _effect_free_set("calib17", CALIB17_EXCITATIONS, ["wiry14", "bulky14", "trim"],
+                            [(True, False), (False, True), (True, True)], [100.0, 1200.0, 160.0, 2000.0, 1600.0],
+                            [0.05, 0.08, 0.065], [0.0, 0.8, 0.0, 0.9], [0.002, 0.005], [0.0005, 0.0015],
+                            14900, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
+_F18_FS = {"a": 1500.0, "b": 120.0, "c": 1800.0, "d": 110.0, "e": 1300.0, "f": 2000.0, "g": 140.0, "h": 1600.0,
+           "i": 100.0}
+_F18_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.9},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.15 * kw["period"], "phase": kw["phase"] - 1.7}}
+
+
+def fresh18_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: every second of fresh3's
+    24 effect rows (12: each in-library effect once or twice) at rates no earlier set reached (100-140 Hz
+    and 1.3-2 kHz, by recipe), seeds 15000 + k, with the gravity's phase, the asymmetry's sign and
+    the ripple's period and phase changed."""
+    return _refreshed("fresh18", _F18_FS, _F18_VARIED, 15000)[::2]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1535,6 +1579,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib14": calib14_settings, "fresh15": fresh15_settings,
             "calib15": calib15_settings, "fresh16": fresh16_settings, "outside6": outside6_settings,
             "fresh17": fresh17_settings, "outside7": outside7_settings, "calib16": calib16_settings,
+            "calib17": calib17_settings, "fresh18": fresh18_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1704,7 +1749,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
-               "outside6", "fresh17", "outside7", "calib16")
+               "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18")
 
 
 def main():
