@@ -121,9 +121,9 @@ def jacobian(model, specs, kin, rows) -> np.ndarray:
 JAC_BATCH = 32  # Jacobians per vectorised call: bounded memory, one compilation
 
 
-def jacobians(trials: list, specs, kin, rows) -> np.ndarray:
+def jacobians(trials: list, specs, kin, rows, out=None) -> np.ndarray:
     """:func:`jacobian` of several models that differ only in the parameters of ``specs``, in one
-    vectorised call (trials x n_rows x k)."""
+    vectorised call (trials x n_rows x k), written into ``out`` when given."""
     space = M.FitSpace(specs)
     us = [space.to_u(t) for t in trials]
     m = len(us)
@@ -131,7 +131,7 @@ def jacobians(trials: list, specs, kin, rows) -> np.ndarray:
     n = kin.v.shape[0]
     J = np.asarray(_jac_many(us, space.paths, space.bounds, trials[0], M.pad_kinematics(kin), M.pad(jnp.zeros(n)),
                              M.pad(jnp.ones(n))))
-    return J[:m, :n][:, rows, :]
+    return np.take(J[:m, :n], np.flatnonzero(rows), axis=1, out=out)
 
 
 @eqx.filter_jit
@@ -413,8 +413,9 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
                 chunk = trials[i0:i0 + JAC_BATCH]
                 index = {key: i for i, key in enumerate(keys[i0:i0 + JAC_BATCH])}
                 ref = jacobians(chunk, specs, views.ref, rows)
-                syn = np.stack([jacobians(chunk, specs, kj, rows) for kj in views.syn]) if views.scale > 0 \
-                    else np.zeros((0,) + ref.shape)  # K x chunk x rows x k
+                syn = np.empty((len(views.syn) if views.scale > 0 else 0,) + ref.shape, ref.dtype)  # K x chunk x rows x k
+                for j, kj in enumerate(views.syn[: syn.shape[0]]):
+                    jacobians(chunk, specs, kj, rows, out=syn[j])
                 for b, gs in enumerate(guesses_b):
                     for g in gs:
                         i = index.get(_key(g))

@@ -357,7 +357,12 @@ def _strided_ratio(t, R, half_window: int = 200, stride: int = 16):
     h = min(half_window, max(1, (m - 1) // 2))
     padded = np.pad(I, ((0, 0), (h, h)), mode="reflect")
     at = np.unique(np.r_[np.arange(0, m, stride), m - 1])
-    bg_at = np.median(sliding_window_view(padded, 2 * h + 1, axis=1)[:, at], axis=-1)
+    windows = sliding_window_view(padded, 2 * h + 1, axis=1)
+    bg_at = np.empty((I.shape[0], at.size))
+    for r0 in range(0, I.shape[0], 8):  # a few rows' windows at a time: bounded memory
+        w = windows[r0:r0 + 8, at]  # a copy, partitioned in place: its middle element is the median
+        w.partition(h, axis=-1)  # (the window 2h + 1 is odd)
+        bg_at[r0:r0 + 8] = w[..., h]
     bg = np.stack([np.interp(np.arange(m), at, b) for b in bg_at])
     ratio = I / np.maximum(bg / np.log(2), 1e-300)
     ratio[:, : MIN_PERIODS - 1] = 0.0
