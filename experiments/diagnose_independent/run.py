@@ -1564,6 +1564,55 @@ def fresh18_settings():
     return _refreshed("fresh18", _F18_FS, _F18_VARIED, 15000)[::2]
 
 
+# calib18 and fresh19: strongly coloured torque noise (AR(1) 0.6-0.92) at 100-400 Hz, where the
+# recorded torque's own noise profile cannot tell the noise's colour from the motion's torque
+CALIB18_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.03, 0.11, 0.45, 1.3, 3.6), "dwell": 3.1 if i % 2 else 3.4,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.6 + 0.6 * (i % 3), "f0": 0.048, "f1": 1.45, "duration": 40.0,
+                             "bias": 0.45 + 0.4 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.6 * (i % 2), "f0": 0.05, "f1": 1.1 + 0.35 * (i % 3),
+                            "n": 9 + 4 * (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.8 + 2.0 * (i % 3), "frequency": 0.15 + 0.04 * (i % 2),
+                                "duration": 36.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.5, 1.9, -2.8, 2.2) if i % 2 else (-2.4, 2.6, -1.8, 2.1, -2.6, 1.2),
+                                 "move_time": 1.35 + 0.5 * (i % 2), "dwell": 2.3, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.18, 0.62, 1.7, 3.2), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib18_settings(n: int = 30):
+    """An eighteenth effect-free set (issue #30), fixed and committed before its first run: strongly
+    coloured torque noise (AR(1) of coefficient 0.6, 0.85 or 0.92 in three rows of four, white in
+    the fourth) at 100-400 Hz; the six excitation kinds with other parameters x both loops x the
+    three sensor sets (encoder only, velocity only, both), on calib2's plants (LIGHT, HEAVY, FLAT),
+    torque noise 0.045-0.09 N*m, velocity noise 0.0025-0.0045 deg/s, quantisation 0.0006-0.0012
+    deg; seeds 15100 + i."""
+    return _effect_free_set("calib18", CALIB18_EXCITATIONS, ["light", "heavy", "flat"],
+                            [(True, False), (False, True), (True, True)], [130.0, 250.0, 100.0, 400.0, 180.0],
+                            [0.09, 0.045, 0.065], [0.85, 0.0, 0.92, 0.6], [0.0025, 0.0045], [0.0006, 0.0012],
+                            15100, n, loops=("pi", "pid"), nff=0, plant_k=2, fs_k=3, tn_rule=(2, 5))
+
+
+_F19_FS = {"a": 180.0, "b": 260.0, "c": 140.0, "d": 380.0, "e": 300.0, "f": 150.0, "g": 200.0, "h": 120.0,
+           "i": 220.0}
+_F19_AR = {"a": 0.85, "b": 0.7, "c": 0.9, "d": 0.6, "e": 0.8, "f": 0.88, "g": 0.75, "h": 0.92, "i": 0.65}
+_F19_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.6},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.85 * kw["period"], "phase": kw["phase"] + 1.3}}
+
+
+def fresh19_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's 24 effect rows
+    with strongly coloured torque noise (AR(1) 0.6-0.92, by recipe) at 120-380 Hz, seeds
+    15200 + k, with the gravity's phase, the asymmetry's sign and the ripple's period and phase
+    changed."""
+    recipes = {k: r[:4] + (_F19_FS[k], r[5], _F19_AR[k]) + r[7:] for k, r in _F3_RECIPES.items()}
+    return [_recipe_job(f"fresh19_effect{k:02d}_{eid}_{r}", r, 15200 + k,
+                        [(eid, _F19_VARIED.get(eid, dict)(dict(kw)))], eid, recipes)
+            for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1580,6 +1629,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib15": calib15_settings, "fresh16": fresh16_settings, "outside6": outside6_settings,
             "fresh17": fresh17_settings, "outside7": outside7_settings, "calib16": calib16_settings,
             "calib17": calib17_settings, "fresh18": fresh18_settings,
+            "calib18": calib18_settings, "fresh19": fresh19_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1749,7 +1799,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh8", "calib8", "fresh9", "outside3", "calib9", "fresh10", "outside4",
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
-               "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18")
+               "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
+               "fresh19")
 
 
 def main():
