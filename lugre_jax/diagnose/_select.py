@@ -369,7 +369,6 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     the fitted model (errors in variables), both from the data; and the null model that simulates
     them."""
     from ._calibrate import centred_draws, null_model
-    from ._condition import torque_noise_std
 
     rec, cond, base, kin = prep.rec, prep.cond, prep.base, prep.kin
     scales = M.data_scales(rec)
@@ -399,24 +398,15 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
     # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
     r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
-    # the torque noise as the baseline's residual shows it: the recorded torque's own profile cannot
-    # tell the motion's torque from a colour once the noise stays correlated over the motion's time
-    # scales (strong colour at a low rate), the fitted model takes that torque out; the residual
-    # adds only what the model misses and the kinematics' errors, so the lower estimate is the noise's
-    t_sd, t_phi = float(cond.torque_noise), float(cond.torque_noise_colour)
-    sd_r, phi_r = torque_noise_std(r0[split.keep])
-    if 0.0 < sd_r < t_sd:
-        t_sd, t_phi = float(sd_r), float(phi_r)
-        null = dataclasses.replace(null, torque_sd=t_sd, torque_phi=t_phi)
     n_val = max(int(split.val.sum()), 1)
     kappa0 = L.long_run_variance_factor(r0, split.blocks)
     held = _val_rmse(r0, split.val) * (1.0 + 2.0 / np.sqrt(2.0 * n_val / max(kappa0, 1.0)))
-    room = max(held ** 2 - t_sd ** 2, 0.0)
+    room = max(held ** 2 - cond.torque_noise ** 2, 0.0)
     if kin_noise > 0 and kin_noise ** 2 > room:
         scale = float(np.sqrt(room) / kin_noise)
         null = dataclasses.replace(null, kinematic_scale=scale)
         kin_noise *= scale
-    floor = float(np.hypot(t_sd, kin_noise))
+    floor = float(np.hypot(cond.torque_noise, kin_noise))
     # the shapes a correct model's residual keeps in expectation, which no test may claim: the
     # kinematics' systematic error (above) and the smoothing's bias, J times the change of the
     # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by)
@@ -430,7 +420,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
-    return Floor(t_sd, kin_noise, floor, ratio, lam, known, null, scales)
+    return Floor(cond.torque_noise, kin_noise, floor, ratio, lam, known, null, scales)
 
 
 def _quantised_derivatives(cond) -> bool:
