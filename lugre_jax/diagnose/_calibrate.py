@@ -413,8 +413,9 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
                 chunk = trials[i0:i0 + JAC_BATCH]
                 index = {key: i for i, key in enumerate(keys[i0:i0 + JAC_BATCH])}
                 ref = jacobians(chunk, specs, views.ref, rows)
-                syn = np.empty((len(views.syn) if views.scale > 0 else 0,) + ref.shape, ref.dtype)  # K x chunk x rows x k
-                for j, kj in enumerate(views.syn[: syn.shape[0]]):
+                paths = views.syn if views.scale > 0 else []
+                syn = np.empty((len(paths),) + ref.shape, ref.dtype)  # K x chunk x rows x k
+                for j, kj in enumerate(paths):
                     jacobians(chunk, specs, kj, rows, out=syn[j])
                 for b, gs in enumerate(guesses_b):
                     for g in gs:
