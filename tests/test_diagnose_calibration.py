@@ -375,6 +375,39 @@ def test_smoothing_blend_recovers_the_acceleration_a_window_smooths_away():
     assert float(np.sqrt(np.mean((J * (a_0 - a_w)) ** 2))) < 0.1 * 0.05
 
 
+@pytest.mark.parametrize("source, blend", [("velocity", -1.0), ("velocity", 0.4), ("position", -0.6)])
+def test_blended_acceleration_noise_and_memory_are_the_blended_filters(source, blend):
+    """The acceleration fitted after a blend is ``a_W + blend*(a_W - a_2W-1)``; the noise and memory
+    the tests read must be that filter's. Reference: the same conditioning run on white noise alone,
+    its acceleration's sample std (1.5 % at 400,000 samples: 3.5 standard errors of a std estimate),
+    and the support of its response to a unit impulse."""
+    from lugre_jax.diagnose._condition import Conditioning, blended, conditioned_kinematics, memory
+
+    rng = np.random.default_rng(11)
+    fs, W, sig = 1600.0, 43, 0.005
+    t = np.arange(400_000) / fs
+    x = rng.normal(0.0, sig, t.size)
+    pos, vel = (None, x) if source == "velocity" else (x, None)
+    cond0 = Conditioning(torque_noise=0.05, velocity_noise=sig if source == "velocity" else 0.0,
+                         position_noise=0.0 if source == "velocity" else sig, quantisation=0.0, source=source,
+                         window=W, accel_noise_torque=1.0, velocity_noise_after=0.0, accel_noise=1.0)
+    cond = blended(cond0, blend, 1 / fs)
+    a = conditioned_kinematics(t, np.zeros_like(t) if pos is None else pos, vel, source, W, blend=blend)[1]
+    measured = float(np.std(a[2 * W:-2 * W]))
+    assert cond.blend == blend
+    assert abs(cond.accel_noise / measured - 1.0) < 0.015
+    assert cond.accel_noise_torque == pytest.approx(cond.accel_noise)  # scaled with the noise (J0 = 1 here)
+    # the blended filter's memory: its impulse response spans 2W-1 samples
+    imp = np.zeros(4001)
+    imp[2000] = 1.0
+    ip, iv = (None, imp) if source == "velocity" else (imp, None)
+    resp = conditioned_kinematics(np.arange(imp.size) / fs, np.zeros_like(imp) if ip is None else ip, iv, source,
+                                  W, blend=blend)[1]
+    support = np.flatnonzero(np.abs(resp) > 1e-12 * np.abs(resp).max())
+    assert support[-1] - support[0] + 1 == memory(cond) == 2 * W - 1
+    assert memory(blended(cond0, 0.0, 1 / fs)) == W
+
+
 def test_held_out_confirmation_holds_its_alpha_and_has_half_the_z():
     """A step's one held-out test (``alpha_confirm = alpha``): on pure AR(1) noise, with a candidate
     of five smooth columns fitted on the training blocks, it confirms within ``alpha`` (three Monte

@@ -200,6 +200,29 @@ def _gain(W, deriv, dt, order=3):
     return float(np.linalg.norm(savgol_coeffs(W, order, deriv=deriv, delta=dt)))
 
 
+def blended(cond: "Conditioning", blend: float, dt: float) -> "Conditioning":
+    """``cond`` with its acceleration blended (``a_W + blend*(a_W - a_2W-1)``): the acceleration's
+    noise is then that of the blended filter, ``(1 + blend)*h_W - blend*h_2W-1`` (with ``blend``
+    near -1 the wider window's, a third of ``h_W``'s at the same noise), not the window W's; what
+    reads it (the inertia's attenuation by errors in variables) needs the noise of the acceleration
+    the fit was given."""
+    if not blend or cond.source == "recording":
+        return dataclasses.replace(cond, blend=blend)
+    W, dv = cond.window, 0 if cond.source == "velocity" else 1
+    h = (1.0 + blend) * np.pad(savgol_coeffs(W, cond.order, deriv=dv + 1, delta=dt), (W - 1) // 2) \
+        - blend * savgol_coeffs(2 * W - 1, cond.order, deriv=dv + 1, delta=dt)
+    sig = cond.velocity_noise if cond.source == "velocity" else cond.position_noise
+    noise = sig * float(np.linalg.norm(h))
+    scale = noise / cond.accel_noise if cond.accel_noise > 0 else 1.0
+    return dataclasses.replace(cond, blend=blend, accel_noise=noise, accel_noise_torque=cond.accel_noise_torque * scale)
+
+
+def memory(cond: "Conditioning") -> int:
+    """Samples the conditioned acceleration at one sample draws on: the window, or the wider window
+    ``2W-1`` when blended with it."""
+    return 2 * cond.window - 1 if cond.blend else cond.window
+
+
 # Savitzky-Golay polynomial orders the window choice considers: order 5 has less bias at the same
 # noise near the excitation's top frequency (an order-3 window attenuates a multisine's top line and
 # leaves the rest of it in the residual)

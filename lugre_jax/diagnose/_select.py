@@ -215,7 +215,7 @@ class Floor:
 def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
     fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
-    from ._condition import condition, conditioned_kinematics, forget_after, smoothing_blend
+    from ._condition import blended, condition, conditioned_kinematics, forget_after, smoothing_blend
 
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
@@ -292,7 +292,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         a = conditioned_kinematics(rec.time, rec.position, rec.velocity, cond.source, cond.window, cond.order,
                                    blend)[1]
         crec = eqx.tree_at(lambda r_: r_.acceleration, crec, a)
-        cond = dataclasses.replace(cond, blend=blend)
+        cond = blended(cond, blend, float(np.median(np.diff(np.asarray(rec.time, float)))))
         paths = _paths(rec, crec, cond)
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
                                             fit_offset, params, noise=cond.torque_noise)
@@ -429,7 +429,8 @@ def _quantised_derivatives(cond) -> bool:
 
 
 def _filter_lags(prep: Prepared) -> int:
-    """Memory of the conditioning: a Savitzky-Golay window W, then a central difference for the jerk.
+    """Memory of the conditioning: a Savitzky-Golay window W (2W-1 when blended), then a central
+    difference for the jerk.
     A quantised position's error is correlated for as long as the joint takes to cross a step, and
     the bristles carry it further: with derivatives of a quantised position the cross-correlations
     with acceleration and jerk have no null distribution bounded from the data, so they are not run
@@ -437,7 +438,9 @@ def _filter_lags(prep: Prepared) -> int:
     cond = prep.cond
     if _quantised_derivatives(cond):
         return int(round(0.5 / prep.rec.dt)) + 1
-    return cond.window + 2 if cond.source != "recording" else 0
+    from ._condition import memory
+
+    return memory(cond) + 2 if cond.source != "recording" else 0
 
 
 def _locate(prep, split, floor, cfg, model, r, filter_lags, at_floor: bool):
