@@ -1613,6 +1613,35 @@ def fresh19_settings():
             for k, (r, eid, kw) in enumerate(FRESH3_EFFECTS)]
 
 
+# calib19: after the blended acceleration's noise and memory were corrected (the fix for calib17's
+# false names at 1.2-1.6 kHz): rates across the range, most rows blended, other excitation parameters
+CALIB19_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.035, 0.13, 0.5, 1.5, 4.2), "dwell": 3.0 if i % 2 else 3.5,
+                            "transition": 0.25, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.7 + 0.5 * (i % 3), "f0": 0.045, "f1": 1.55, "duration": 40.0,
+                             "bias": 0.4 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.5 * (i % 2), "f0": 0.055, "f1": 1.05 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.2 * (i % 3), "frequency": 0.14 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.1, -2.7, 1.8, -2.3, 2.6) if i % 2 else (-2.2, 2.9, -1.4, 2.4, -2.7, 1.0),
+                                 "move_time": 1.3 + 0.45 * (i % 2), "dwell": 2.4, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.04, 0.2, 0.65, 2.1, 4.0), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib19_settings(n: int = 30):
+    """A nineteenth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets (encoder only,
+    velocity only, both), on fresh3's plants (NIMBLE, SLUGGISH, MIDDLE), 150-1400 Hz, torque noise
+    0.05-0.09 N*m, white in half the rows and AR(1) of coefficient 0.5 or 0.75 in the other half,
+    velocity noise 0.0025-0.0045 deg/s, quantisation 0.0006-0.0014 deg; seeds 15300 + i."""
+    return _effect_free_set("calib19", CALIB19_EXCITATIONS, ["nimble", "sluggish", "middle"],
+                            [(True, False), (False, True), (True, True)], [150.0, 800.0, 250.0, 1400.0, 500.0],
+                            [0.07, 0.05, 0.09], [0.0, 0.5, 0.0, 0.75], [0.0025, 0.0045], [0.0006, 0.0014],
+                            15300, n, loops=("pi", "pid"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1629,7 +1658,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib15": calib15_settings, "fresh16": fresh16_settings, "outside6": outside6_settings,
             "fresh17": fresh17_settings, "outside7": outside7_settings, "calib16": calib16_settings,
             "calib17": calib17_settings, "fresh18": fresh18_settings,
-            "calib18": calib18_settings, "fresh19": fresh19_settings,
+            "calib18": calib18_settings, "fresh19": fresh19_settings, "calib19": calib19_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1800,7 +1829,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
-               "fresh19")
+               "fresh19", "calib19")
 
 
 def main():
