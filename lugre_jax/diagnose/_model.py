@@ -679,8 +679,22 @@ def static_curve_fit(rec, noise: float, fit_offset: bool):
     return float(Fc), float(Fc + dF), float(np.exp(lvs)), float(max(s2, 0.0)), off, int(bv.size)
 
 
+# The data-driven starts can be far from the basin of the best fit: the pre-sliding displacement
+# measured at reversals (which sets sigma0) can be off by decades (a reversal driven by the
+# controller and the inertia, a differentiated encoder, steps instead of reversals), and without
+# constant-speed stretches (point to point) the static curve's least squares does not see the
+# Stribeck hump. From there the fit settles in a static-friction basin (sigma0 -> 1e5) or a humpless
+# one. So a grid of further starts spans those decades, independent of the measured values: pre-sliding
+# lengths max(Fs, Fc)/sigma0 at these shares of the position span P, and Fs at these multiples of Fc
+# at these shares of the speed scale V (beside the data's own Fs and vs); the fit takes those that
+# start best (:func:`~._select.fit_baseline`).
+FAR_PRESLIDING_OVER_P = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
+FAR_FS_OVER_FC = (1.0001, 1.5, 2.5)
+FAR_VS_OVER_V = (0.003, 0.01, 0.03, 0.1)
+
+
 def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, noise: float = 0.0,
-                      rough: JointModel | None = None) -> list[JointModel]:
+                      rough: JointModel | None = None, far: bool = False) -> list[JointModel]:
     """Starting baselines from the data (multi-start).
 
     Fc, Fs, vs, sigma2 (and the offset) from the steady-state friction curve of the constant-speed
@@ -688,7 +702,7 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
     :func:`initial_baseline`; J by least squares of the torque left after the static curve against
     the acceleration; sigma0 from the pre-sliding displacement at reversals (Fs over the position
     travelled while the torque reverses), tried at x1/3, x1, x3; sigma1 for a bristle damping ratio
-    of 0.5 and 0.1.
+    of 0.5 and 0.1. ``far``: instead the grid of further starts (``FAR_*``, damping ratio 0.5).
     """
     rough = rough if rough is not None else initial_baseline(rec, friction, fit_offset)
     if friction != "lugre":
@@ -709,15 +723,18 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
     if not J > 0:
         J = float(rough.J)
     x_pre = presliding_displacement(rec, Fs)
-    out = []
-    for k0 in (1.0, 1 / 3, 3.0):
-        s0 = max(Fs, Fc) / (k0 * x_pre)
-        for zeta in (0.5, 0.1):
-            s1 = 2 * zeta * np.sqrt(s0 * J)
-            out.append(JointModel(jnp.asarray(J), LuGre(Fc=Fc, Fs=max(Fs, Fc * 1.0001), vs=vs, sigma2=s2,
-                                                        sigma0=s0, sigma1=s1, require_passive=False),
-                                  jnp.asarray(off)))
-    return out
+    s0_data = max(Fs, Fc) / x_pre
+
+    def start(Fs_, vs_, s0, zeta):
+        return JointModel(jnp.asarray(J), LuGre(Fc=Fc, Fs=max(Fs_, Fc * 1.0001), vs=vs_, sigma2=s2, sigma0=s0,
+                                                sigma1=2 * zeta * np.sqrt(s0 * J), require_passive=False),
+                          jnp.asarray(off))
+
+    if far:
+        humps = [(Fs, vs)] + [(k * Fc, q * sc["V"]) for k in FAR_FS_OVER_FC for q in FAR_VS_OVER_V]
+        return [start(Fs_, vs_, max(Fs_, Fc) / (x * sc["P"]), 0.5) for Fs_, vs_ in humps
+                for x in FAR_PRESLIDING_OVER_P]
+    return [start(Fs, vs, s0_data / k0, zeta) for k0 in (1.0, 1 / 3, 3.0) for zeta in (0.5, 0.1)]
 
 
 def presliding_length(friction) -> float:

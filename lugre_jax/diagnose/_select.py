@@ -112,20 +112,26 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
 
 
 def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
-                 rough=None, screen_steps: int = 25, max_steps: int = 200):
+                 rough=None, screen_steps: int = 25, max_steps: int = 200, far_starts: int = 2):
     """Multi-start LM fit of the baseline; returns (model, info, index of the kinematics used).
 
     ``kins``: one or more candidate kinematics of the same recording (bristle paths); every start
     is screened on each. Starts from :func:`~._model.initial_baselines` (data-driven) plus the
-    least-squares start; each (start, kinematics) pair is run ``screen_steps`` LM steps, the best
-    two by training SSE are run to convergence.
+    least-squares start, and on each kinematics the ``far_starts`` of the grid of further starts
+    (``initial_baselines(far=True)``: sigma0 and the Stribeck hump decades away) whose training SSE is
+    lowest before any step (a prediction each, no fit);
+    each (start, kinematics) pair is run ``screen_steps`` LM steps, the best two by training SSE are
+    run to convergence.
     """
     if params is not None:
         return M.baseline_from_params(params), {"result": "given", "steps": 0, "starts": 0}, 0
     m0 = rough if rough is not None else M.initial_baseline(rec, friction, fit_offset)
     starts = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0)
+    far = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0, far=True) if far_starts else []
     if isinstance(m0.friction, LuGre):
         starts.append(m0)
+    else:
+        far = []
     space = M.FitSpace(M.baseline_specs(starts[0], scales, fit_offset))
     w = np.asarray(weights)
     tau = np.asarray(rec.torque)
@@ -137,7 +143,9 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     screened = []
     many = len(starts) * len(kins) > 1
     for k, kin in enumerate(kins):
-        for s0 in starts:
+        clipped = [M.clip_into(space, s0) for s0 in far]
+        nearest = sorted(range(len(clipped)), key=lambda i: sse(clipped[i], kin))[:far_starts]
+        for s0 in starts + [clipped[i] for i in nearest]:
             s0 = M.clip_into(space, s0)
             fitted, _ = M.fit(s0, space, kin, tau, weights, max_steps=screen_steps) if many else (s0, {})
             screened.append((sse(fitted, kin), k, fitted))
