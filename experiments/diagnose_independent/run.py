@@ -1642,6 +1642,50 @@ def calib19_settings(n: int = 30):
                             15300, n, loops=("pi", "pid"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# calib20 and fresh20: after the baseline fit's further starts (sigma0 and the Stribeck hump decades
+# from the data-driven values; the fix for calib19's four false names, all baseline fits in a wrong basin)
+CALIB20_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.04, 0.16, 0.55, 1.6, 3.8), "dwell": 3.2 if i % 2 else 3.7,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.55 * (i % 3), "f0": 0.05, "f1": 1.5, "duration": 40.0,
+                             "bias": 0.45 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.3 + 0.45 * (i % 2), "f0": 0.06, "f1": 1.1 + 0.3 * (i % 3),
+                            "n": 10 + 3 * (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.7 + 2.1 * (i % 3), "frequency": 0.13 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.4, -2.6, 1.7, -2.2, 2.5) if i % 2 else (-2.1, 2.7, -1.5, 2.5, -2.6, 1.3),
+                                 "move_time": 1.25 + 0.5 * (i % 2), "dwell": 2.35, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.21, 0.6, 2.0, 3.9), "dwell": 2.45, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib20_settings(n: int = 30):
+    """A twentieth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets (encoder only,
+    velocity only, both), on calib3's plants (SHARP, MASSIVE, DAMPED), 220-900 Hz, torque noise
+    0.05-0.085 N*m, white in half the rows and AR(1) of coefficient 0.45 or 0.7 in the other half,
+    velocity noise 0.003-0.005 deg/s, quantisation 0.0005-0.0013 deg; seeds 15400 + i."""
+    return _effect_free_set("calib20", CALIB20_EXCITATIONS, ["sharp", "massive", "damped"],
+                            [(True, False), (False, True), (True, True)], [220.0, 600.0, 350.0, 900.0, 450.0],
+                            [0.085, 0.05, 0.065], [0.0, 0.45, 0.0, 0.7], [0.003, 0.005], [0.0005, 0.0013],
+                            15400, n, loops=("pid", "pi"), nff=2, plant_k=2, fs_k=3, tn_rule=(2, 5))
+
+
+_F20_FS = {"a": 260.0, "b": 430.0, "c": 310.0, "d": 520.0, "e": 240.0, "f": 470.0, "g": 380.0, "h": 290.0,
+           "i": 340.0}
+_F20_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.1},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] - 0.6}}
+
+
+def fresh20_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: the other half of fresh3's
+    24 effect rows (those fresh18 leaves out: each in-library effect once or twice) at 240-520 Hz
+    (by recipe), seeds 15500 + k, with the gravity's phase, the asymmetry's sign and the ripple's
+    period and phase changed."""
+    return _refreshed("fresh20", _F20_FS, _F20_VARIED, 15500)[1::2]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1659,6 +1703,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh17": fresh17_settings, "outside7": outside7_settings, "calib16": calib16_settings,
             "calib17": calib17_settings, "fresh18": fresh18_settings,
             "calib18": calib18_settings, "fresh19": fresh19_settings, "calib19": calib19_settings,
+            "calib20": calib20_settings, "fresh20": fresh20_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1829,7 +1874,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
-               "fresh19", "calib19")
+               "fresh19", "calib19", "calib20", "fresh20")
 
 
 def main():
