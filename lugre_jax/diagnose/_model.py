@@ -694,19 +694,20 @@ FAR_VS_OVER_V = (0.003, 0.01, 0.03, 0.1)
 
 
 def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, noise: float = 0.0,
-                      rough: JointModel | None = None, far: bool = False) -> list[JointModel]:
-    """Starting baselines from the data (multi-start).
+                      rough: JointModel | None = None) -> tuple[list[JointModel], list[JointModel]]:
+    """Starting baselines (multi-start): ``(from the data, the grid of further starts)``.
 
     Fc, Fs, vs, sigma2 (and the offset) from the steady-state friction curve of the constant-speed
     stretches when the recording has them, else from the least-squares start of
     :func:`initial_baseline`; J by least squares of the torque left after the static curve against
     the acceleration; sigma0 from the pre-sliding displacement at reversals (Fs over the position
     travelled while the torque reverses), tried at x1/3, x1, x3; sigma1 for a bristle damping ratio
-    of 0.5 and 0.1. ``far``: instead the grid of further starts (``FAR_*``, damping ratio 0.5).
+    of 0.5 and 0.1. The further starts: the grid ``FAR_*`` around the same J, Fc, sigma2 and offset
+    (damping ratio 0.5); none for another friction model.
     """
     rough = rough if rough is not None else initial_baseline(rec, friction, fit_offset)
     if friction != "lugre":
-        return [rough]
+        return [rough], []
     sc = data_scales(rec)
     v, a, y = (np.asarray(x, float) for x in (rec.velocity, rec.acceleration, rec.torque))
     f0 = rough.friction
@@ -730,11 +731,9 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
                                                 sigma1=2 * zeta * np.sqrt(s0 * J), require_passive=False),
                           jnp.asarray(off))
 
-    if far:
-        humps = [(Fs, vs)] + [(k * Fc, q * sc["V"]) for k in FAR_FS_OVER_FC for q in FAR_VS_OVER_V]
-        return [start(Fs_, vs_, max(Fs_, Fc) / (x * sc["P"]), 0.5) for Fs_, vs_ in humps
-                for x in FAR_PRESLIDING_OVER_P]
-    return [start(Fs, vs, s0_data / k0, zeta) for k0 in (1.0, 1 / 3, 3.0) for zeta in (0.5, 0.1)]
+    humps = [(Fs, vs)] + [(k * Fc, q * sc["V"]) for k in FAR_FS_OVER_FC for q in FAR_VS_OVER_V]
+    return ([start(Fs, vs, s0_data / k0, zeta) for k0 in (1.0, 1 / 3, 3.0) for zeta in (0.5, 0.1)],
+            [start(Fs_, vs_, max(Fs_, Fc) / (x * sc["P"]), 0.5) for Fs_, vs_ in humps for x in FAR_PRESLIDING_OVER_P])
 
 
 def presliding_length(friction) -> float:

@@ -118,21 +118,21 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     ``kins``: one or more candidate kinematics of the same recording (bristle paths); every start
     is screened on each. Starts from :func:`~._model.initial_baselines` (data-driven) plus the
     least-squares start, and on each kinematics the ``far_starts`` of the grid of further starts
-    (``initial_baselines(far=True)``: sigma0 and the Stribeck hump decades away) whose training SSE is
-    lowest before any step (a prediction each, no fit);
+    (``initial_baselines``' second list: sigma0 and the Stribeck hump decades away) whose training
+    SSE is lowest before any step (a prediction each, no fit);
     each (start, kinematics) pair is run ``screen_steps`` LM steps, the best two by training SSE are
     run to convergence.
     """
     if params is not None:
         return M.baseline_from_params(params), {"result": "given", "steps": 0, "starts": 0}, 0
     m0 = rough if rough is not None else M.initial_baseline(rec, friction, fit_offset)
-    starts = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0)
-    far = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0, far=True) if far_starts else []
+    starts, far = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0)
     if isinstance(m0.friction, LuGre):
         starts.append(m0)
     else:
         far = []
     space = M.FitSpace(M.baseline_specs(starts[0], scales, fit_offset))
+    far = [M.clip_into(space, s0) for s0 in far] if far_starts else []
     w = np.asarray(weights)
     tau = np.asarray(rec.torque)
 
@@ -143,9 +143,8 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     screened = []
     many = len(starts) * len(kins) > 1
     for k, kin in enumerate(kins):
-        clipped = [M.clip_into(space, s0) for s0 in far]
-        nearest = sorted(range(len(clipped)), key=lambda i: sse(clipped[i], kin))[:far_starts]
-        for s0 in starts + [clipped[i] for i in nearest]:
+        nearest = sorted(range(len(far)), key=lambda i: sse(far[i], kin))[:far_starts]
+        for s0 in starts + [far[i] for i in nearest]:
             s0 = M.clip_into(space, s0)
             fitted, _ = M.fit(s0, space, kin, tau, weights, max_steps=screen_steps) if many else (s0, {})
             screened.append((sse(fitted, kin), k, fitted))
@@ -300,7 +299,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         a = conditioned_kinematics(rec.time, rec.position, rec.velocity, cond.source, cond.window, cond.order,
                                    blend)[1]
         crec = eqx.tree_at(lambda r_: r_.acceleration, crec, a)
-        cond = blended(cond, blend, float(np.median(np.diff(np.asarray(rec.time, float)))))
+        cond = blended(cond, blend, rec.dt)
         paths = _paths(rec, crec, cond)
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
                                             fit_offset, params, noise=cond.torque_noise)
