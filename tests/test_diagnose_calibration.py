@@ -522,7 +522,6 @@ def test_null_columns_built_through_each_draws_kinematics_hold_the_level():
     assert rejected["fixed"] / reps > 0.15, rejected
 
 
-@pytest.mark.slow  # ~100 s: generation and the whole conditioning of a 24,000-sample recording
 def test_baseline_fit_reaches_the_true_parameters_basin_where_the_data_driven_starts_do_not():
     """A velocity-only, position-PID recording of sharp steps (the generator's LSODA joint, plant
     J 0.15, Fc 1.1, Fs 1.9, vs 0.12, sigma2 0.9, sigma0 120, sigma1 1.2): its reversals are driven by
