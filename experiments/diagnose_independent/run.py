@@ -1686,6 +1686,90 @@ def fresh20_settings():
     return _refreshed("fresh20", _F20_FS, _F20_VARIED, 15500)[1::2]
 
 
+
+# calib21, outside8 and fresh21: after the conditioned acceleration's bandwidth is computed from its
+# filter (blend included) for compliance's plausibility; three plants no earlier set used
+ZIPPY = T.Plant(J=0.09, Fc=0.55, Fs=0.95, vs=0.05, sigma2=1.05, sigma0=160.0, sigma1=0.9)
+WEIGHTY = T.Plant(J=0.36, Fc=1.6, Fs=2.05, vs=0.07, sigma2=1.7, sigma0=300.0, sigma1=2.6)
+ORDINARY = T.Plant(J=0.2, Fc=0.85, Fs=1.25, vs=0.058, sigma2=1.3, sigma0=220.0, sigma1=1.5)
+_add_plants({"zippy": (ZIPPY, T.VelocityPIController(kp=4.0, ki=24.0)),
+             "weighty": (WEIGHTY, T.VelocityPIController(kp=25.0, ki=150.0)),
+             "ordinary": (ORDINARY, T.VelocityPIController(kp=12.0, ki=75.0))},
+            {"zippy": T.PositionPIDController.tuned(0.09, 3.2, tf=0.002),
+             "weighty": T.PositionPIDController.tuned(0.36, 2.6, tf=0.005),
+             "ordinary": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003)})
+
+CALIB21_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.045, 0.15, 0.6, 1.7, 3.6), "dwell": 3.1 if i % 2 else 3.6,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.048, "f1": 1.45, "duration": 38.0,
+                             "bias": 0.5 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.5 * (i % 2), "f0": 0.058, "f1": 1.15 + 0.25 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 38.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.3 * (i % 3), "frequency": 0.15 + 0.04 * (i % 2),
+                                "duration": 32.0},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.8, 1.6, -2.4, 2.7) if i % 2 else (-2.3, 2.6, -1.6, 2.3, -2.5, 1.2),
+                                 "move_time": 1.35 + 0.4 * (i % 2), "dwell": 2.5, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.045, 0.19, 0.7, 1.9, 3.7), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib21_settings(n: int = 30):
+    """A twenty-first effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets (encoder only,
+    velocity only, both), on three plants no earlier set used (ZIPPY, WEIGHTY, ORDINARY), 180-1100 Hz,
+    torque noise 0.045-0.08 N*m, white in half the rows and AR(1) of coefficient 0.5 or 0.65 in the
+    other half, velocity noise 0.0035-0.005 deg/s, quantisation 0.0007-0.0011 deg; seeds 15600 + i."""
+    return _effect_free_set("calib21", CALIB21_EXCITATIONS, ["zippy", "weighty", "ordinary"],
+                            [(True, True), (True, False), (False, True)], [180.0, 700.0, 300.0, 1100.0, 420.0],
+                            [0.06, 0.08, 0.045], [0.0, 0.5, 0.0, 0.65], [0.0035, 0.005], [0.0007, 0.0011],
+                            15600, n, loops=("pi", "pid"), nff=3, plant_k=1, fs_k=2, tn_rule=(2, 4))
+
+
+# outside8: outside5's rows on ZIPPY (for LITHE), WEIGHTY (for HULKING) and ORDINARY (for STEADY), at
+# excitation parameters, rates and seeds no earlier set used
+_OUT8_RECIPES = {
+    "a": ("zippy", "pi", "multisine", {"amplitude": 2.3, "f0": 0.052, "f1": 1.6, "n": 12, "duration": 46.0},
+          505.0, 0.06, 0.0, 0.003, 0.0009, True, True),
+    "b": ("weighty", "pid", "point_to_point", {"amplitudes": (2.9, -3.4, 3.2, -2.1, -2.4, 3.0), "move_time": 1.5,
+                                            "dwell": 2.5, "repeats": 2}, 395.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("zippy", "pi", "staircase", {"speeds": (0.045, 0.17, 0.75, 2.2, 5.0, 7.5), "dwell": 3.6,
+                                      "transition": 0.4, "repeats": 1}, 335.0, 0.05, 0.0, 0.003, 0.0011, True, True),
+    "d": ("ordinary", "pid", "sine_sweep", {"amplitude": 2.9, "f0": 0.052, "f1": 1.35, "duration": 48.0, "bias": 0.6},
+          430.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("weighty", "pi", "multisine", {"amplitude": 2.3, "f0": 0.058, "f1": 1.5, "n": 11, "duration": 44.0},
+          480.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("ordinary", "pid", "point_to_point", {"amplitudes": (-2.8, 3.6, -3.3, 2.4, 3.8, -2.9), "move_time": 1.4,
+                                           "dwell": 2.7, "repeats": 2}, 345.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("weighty", "pid_nff", "point_to_point", {"amplitudes": (3.1, -3.9, 2.6, -3.1, 2.4, 1.6), "move_time": 1.6,
+                                                "dwell": 2.6, "repeats": 2}, 310.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("zippy", "pi", "staircase", {"speeds": (0.055, 0.15, 0.6, 1.9, 4.6), "dwell": 4.0, "transition": 0.4,
+                                      "repeats": 1}, 265.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside8_settings():
+    """An eighth outside set (issue #31), fixed and committed before its first run: outside5's rows
+    (the four effects outside the candidates, two recordings each) on ZIPPY, WEIGHTY and ORDINARY, at
+    excitation parameters, rates and seeds (15700 + k) no earlier set used."""
+    return _outside_set("outside8_", OUTSIDE5_ROWS, _OUT8_RECIPES, 15700)
+
+
+_F21_FS = {"a": 280.0, "b": 410.0, "c": 230.0, "d": 560.0, "e": 330.0, "f": 495.0, "g": 360.0, "h": 305.0,
+           "i": 450.0}
+_F21_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.8},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.1 * kw["period"], "phase": kw["phase"] + 0.9}}
+
+
+def fresh21_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: the half of fresh3's 24
+    effect rows fresh18 used (each in-library effect once or twice) at 230-560 Hz (by recipe), seeds
+    15800 + k, with the gravity's phase, the asymmetry's sign and the ripple's period and phase
+    changed."""
+    return _refreshed("fresh21", _F21_FS, _F21_VARIED, 15800)[0::2]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1704,6 +1788,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib17": calib17_settings, "fresh18": fresh18_settings,
             "calib18": calib18_settings, "fresh19": fresh19_settings, "calib19": calib19_settings,
             "calib20": calib20_settings, "fresh20": fresh20_settings,
+            "calib21": calib21_settings, "outside8": outside8_settings, "fresh21": fresh21_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1874,7 +1959,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
-               "fresh19", "calib19", "calib20", "fresh20")
+               "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21")
 
 
 def main():
