@@ -200,21 +200,49 @@ def _gain(W, deriv, dt, order=3):
     return float(np.linalg.norm(savgol_coeffs(W, order, deriv=deriv, delta=dt)))
 
 
+def _accel_filter(cond: "Conditioning", dt: float) -> tuple[np.ndarray, int]:
+    """``(h, dv)``: the filter the conditioned acceleration is, applied to the measured velocity
+    (``dv`` 0) or position (``dv`` 1): the window W's Savitzky-Golay derivative, blended
+    (``a_W + blend*(a_W - a_2W-1)``) when ``cond.blend`` is set."""
+    W, dv = cond.window, 0 if cond.source == "velocity" else 1
+    h = savgol_coeffs(W, cond.order, deriv=dv + 1, delta=dt)
+    if cond.blend:
+        h = (1.0 + cond.blend) * np.pad(h, (W - 1) // 2) \
+            - cond.blend * savgol_coeffs(2 * W - 1, cond.order, deriv=dv + 1, delta=dt)
+    return h, dv
+
+
 def blended(cond: "Conditioning", blend: float, dt: float) -> "Conditioning":
     """``cond`` with its acceleration blended (``a_W + blend*(a_W - a_2W-1)``): the acceleration's
     noise is then that of the blended filter, ``(1 + blend)*h_W - blend*h_2W-1`` (with ``blend``
     near -1 the wider window's, a third of ``h_W``'s at the same noise), not the window W's; what
     reads it (the inertia's attenuation by errors in variables) needs the noise of the acceleration
     the fit was given."""
+    cond = dataclasses.replace(cond, blend=blend)
     if not blend or cond.source == "recording":
-        return dataclasses.replace(cond, blend=blend)
-    W, dv = cond.window, 0 if cond.source == "velocity" else 1
-    h = (1.0 + blend) * np.pad(savgol_coeffs(W, cond.order, deriv=dv + 1, delta=dt), (W - 1) // 2) \
-        - blend * savgol_coeffs(2 * W - 1, cond.order, deriv=dv + 1, delta=dt)
+        return cond
+    h, _ = _accel_filter(cond, dt)
     sig = cond.velocity_noise if cond.source == "velocity" else cond.position_noise
     noise = sig * float(np.linalg.norm(h))
     scale = noise / cond.accel_noise if cond.accel_noise > 0 else 1.0
-    return dataclasses.replace(cond, blend=blend, accel_noise=noise, accel_noise_torque=cond.accel_noise_torque * scale)
+    return dataclasses.replace(cond, accel_noise=noise, accel_noise_torque=cond.accel_noise_torque * scale)
+
+
+def accel_bandwidth(cond: "Conditioning", dt: float) -> float:
+    """Bandwidth [Hz] of the conditioned acceleration: the lowest frequency at which the filter
+    it is (:func:`_accel_filter`, blend included) passes less than 1/sqrt(2) of the true
+    acceleration's amplitude (its gain over the ideal derivative's). Computed from the filter's
+    own coefficients, so it holds for any window, order and blend. A recorded acceleration's sensor
+    filter is not known: a quarter of the sampling rate."""
+    if cond.source == "recording":
+        return 0.25 / dt
+    h, dv = _accel_filter(cond, dt)
+    f = np.linspace(0.0, 0.5 / dt, 8193)[1:]
+    # |sum_k h_k exp(-i w k dt)|: the window's centre only shifts the phase
+    k = np.arange(h.size)
+    gain = np.abs(np.exp(-2j * np.pi * np.outer(f * dt, k)) @ h) / (2 * np.pi * f) ** (dv + 1)
+    below = np.flatnonzero(gain < 1.0 / np.sqrt(2.0))
+    return float(f[below[0]]) if below.size else 0.5 / dt
 
 
 def memory(cond: "Conditioning") -> int:

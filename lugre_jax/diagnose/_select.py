@@ -469,15 +469,15 @@ def _context(prep, split, floor, model, r, loc=None) -> M.Context:
         # as the calibration's null draws find them (:mod:`._calibrate`)
         peaks = L.position_peaks_many(rec.position, r)[0]
         f_t = float(L.time_peaks_many(rec.time, r)[0])
+    from ._condition import accel_bandwidth
+
     cond = prep.cond
-    fs = floor.scales["fs"]
     return M.Context(rec=rec, kin=prep.kin, baseline=model, residual=np.asarray(r), scales=floor.scales,
                      position_peaks=peaks, time_peak_hz=f_t, friction_torque=F, inertial_torque=inertial,
                      n_reversals=split.n_reversals,
                      to_rad=np.pi / 180 if rec.units.get("position") == "deg" else 1.0,
                      position_resolution=max(cond.quantisation, cond.position_noise),
-                     accel_bandwidth_hz=_sg_bandwidth(cond.window, fs, cond.order) if cond.source != "recording"
-                     else 0.25 * fs)
+                     accel_bandwidth_hz=accel_bandwidth(cond, prep.rec.dt))
 
 
 def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
@@ -707,12 +707,6 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
                      improved=improved, selection_log=log, seconds=time.time() - t_start, arrays=arrays,
                      config=cfg.to_json(), attribution=attribution.to_json())
-
-
-def _sg_bandwidth(W: int, fs: float, order: int = 3) -> float:
-    """-3 dB frequency [Hz] of the Savitzky-Golay derivative of window W (Schafer 2011:
-    f_c ~ (order + 1)/(3.2 W - 4.6) * fs/2 for the smoother; used as the bandwidth of the acceleration)."""
-    return float((order + 1) / (3.2 * W - 4.6) * fs / 2)
 
 
 class _Proto:
