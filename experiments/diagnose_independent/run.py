@@ -1770,6 +1770,50 @@ def fresh21_settings():
     return _refreshed("fresh21", _F21_FS, _F21_VARIED, 15800)[0::2]
 
 
+
+# calib22 and fresh22: after held-out samples the training blocks do not determine leave the
+# validation (leverage past the kinematics' criterion); calib14's plants, other excitations
+CALIB22_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.038, 0.14, 0.58, 1.55, 3.5), "dwell": 3.3 if i % 2 else 3.8,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.75 + 0.5 * (i % 3), "f0": 0.052, "f1": 1.4, "duration": 39.0,
+                             "bias": 0.55 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.45 * (i % 2), "f0": 0.057, "f1": 1.2 + 0.25 * (i % 3),
+                            "n": 10 + 3 * (i % 2), "duration": 39.0},
+    "position_sine": lambda i: {"amplitude": 2.8 + 2.0 * (i % 3), "frequency": 0.145 + 0.045 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.5, 1.9, -2.6, 2.2) if i % 2 else (-2.4, 2.8, -1.7, 2.2, -2.4, 1.5),
+                                 "move_time": 1.3 + 0.45 * (i % 2), "dwell": 2.45, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.18, 0.62, 2.05, 3.6), "dwell": 2.55, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib22_settings(n: int = 30):
+    """A twenty-second effect-free set (issue #30), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on calib14's
+    plants (WIRY14, BULKY14, TRIM), 160-950 Hz, torque noise 0.05-0.075 N*m, white in half the rows
+    and AR(1) of coefficient 0.4 or 0.6 in the other half, velocity noise 0.003-0.0045 deg/s,
+    quantisation 0.0006-0.0012 deg; seeds 15900 + i."""
+    return _effect_free_set("calib22", CALIB22_EXCITATIONS, ["wiry14", "bulky14", "trim"],
+                            [(False, True), (True, True), (True, False)], [160.0, 520.0, 260.0, 950.0, 380.0],
+                            [0.05, 0.075, 0.062], [0.0, 0.4, 0.0, 0.6], [0.003, 0.0045], [0.0006, 0.0012],
+                            15900, n, loops=("pid", "pi"), nff=0, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F22_FS = {"a": 300.0, "b": 440.0, "c": 250.0, "d": 510.0, "e": 270.0, "f": 460.0, "g": 350.0, "h": 320.0,
+           "i": 400.0}
+_F22_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.4},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] - 1.4}}
+
+
+def fresh22_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh20's half of fresh3's
+    24 effect rows at 250-510 Hz (by recipe), seeds 16000 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed."""
+    return _refreshed("fresh22", _F22_FS, _F22_VARIED, 16000)[1::2]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1789,6 +1833,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib18": calib18_settings, "fresh19": fresh19_settings, "calib19": calib19_settings,
             "calib20": calib20_settings, "fresh20": fresh20_settings,
             "calib21": calib21_settings, "outside8": outside8_settings, "fresh21": fresh21_settings,
+            "calib22": calib22_settings, "fresh22": fresh22_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -1959,7 +2004,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib10", "fresh11", "outside5", "calib11", "fresh12",
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
-               "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21")
+               "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
+               "fresh22")
 
 
 def main():
