@@ -195,6 +195,7 @@ class Split:
     cv_mask: np.ndarray
     w: np.ndarray
     n_reversals: int
+    unpredicted: int = 0
 
     @property
     def rows(self) -> np.ndarray:
@@ -369,6 +370,39 @@ def _split(rec, cond, unresolved, cfg) -> Split:
             f"{cfg.min_resolved} for the fit and a quarter of that held out: a slower or smoother "
             "excitation, or a velocity sensor, is needed")
     return Split(blocks, keep, val, phase, folds, cv_mask, w, n_rev)
+
+
+def _predicted(prep: Prepared, split: Split, fit_offset) -> Split:
+    """``split`` without the held-out samples whose model torque the training blocks do not
+    determine: where a held-out sample's leverage ``h = j (J'J)^-1 j'`` (``j`` its row of the
+    baseline's Jacobian, ``J`` the training rows') puts the fitted prediction's standard error
+    ``sqrt(h)`` times the noise above ``RESOLVED_BIAS_SHARE`` of it, the criterion a sample's
+    kinematics must meet. Such samples are extrapolation (a reversal only a held-out block
+    resolves, the bristle parameters then set by nothing the fit saw): their error is the fit's, not
+    missing physics, and they leave the validation and the tests."""
+    from ._calibrate import jacobian
+    from ._condition import RESOLVED_BIAS_SHARE
+
+    if prep.k == 0 or not np.any(split.val):
+        return split
+    specs = M.baseline_specs(prep.base, M.data_scales(prep.rec), fit_offset)
+    J = jacobian(prep.base, specs, prep.kin, split.keep)
+    # columns to unit norm over the kept samples (a parameter near its bound has a small column
+    # in the fit's unbounded coordinates; leverage does not depend on the columns' scales) and a
+    # ridge at rounding level, so that a direction no training row moves counts as undetermined
+    norm = np.sqrt(np.sum(J ** 2, axis=0))
+    J = J / np.where(norm > 0, norm, 1.0)
+    rows = split.rows[split.keep]
+    G = J[rows].T @ J[rows]
+    G += 1e-10 * max(float(np.trace(G)) / G.shape[0], 1e-300) * np.eye(G.shape[0])
+    h = np.einsum("ij,ij->i", J, np.linalg.solve(G, J.T).T)
+    bad = np.zeros_like(split.val)
+    bad[split.keep] = h > RESOLVED_BIAS_SHARE ** 2
+    bad &= split.val
+    if not np.any(bad) or not np.any(split.val & ~bad):
+        return split
+    return dataclasses.replace(split, keep=split.keep & ~bad, val=split.val & ~bad, cv_mask=split.cv_mask & ~bad,
+                               unpredicted=int(bad.sum()))
 
 
 def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
@@ -620,6 +654,7 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
     frozen = params is not None
     prep, split = _prepare(rec, cfg, params, friction, fit_offset)
+    split = _predicted(prep, split, fit_offset)
     floor = _floor(prep, split, cfg, fit_offset)
     flags = _filter_lags(prep)
     tau = np.asarray(prep.rec.torque)
@@ -662,12 +697,15 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     recording = RecordingInfo(
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
         validation="every 5th time block of ~%.3g %s held out, phase %d (%d of %d samples); a candidate's "
-                   "held-out test crosses phases %s"
+                   "held-out test crosses phases %s%s"
                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
-                      rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds))))
+                      rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds)),
+                      "; %d held-out samples left out: the training blocks do not determine their model torque"
+                      % split.unpredicted if split.unpredicted else ""))
     baseline = Baseline(
         params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
-        validation_rmse_nm=_val_rmse(r0, val), fit={**prep.info, "acceleration_attenuation": floor.attenuation},
+        validation_rmse_nm=_val_rmse(r0, val),
+        fit={**prep.info, "acceleration_attenuation": floor.attenuation, "held_out_unpredicted": split.unpredicted},
         noise_floor_nm=floor.floor_nm, torque_noise_nm=floor.torque_nm, kinematic_noise_nm=floor.kinematic_nm,
         floor_ratio=ratio, at_floor=bool(ratio <= cfg.at_floor),
         shortcoming=None if ratio <= cfg.at_floor else (

@@ -1,0 +1,54 @@
+"""The held-out samples a diagnosis scores are those the training blocks predict: a held-out sample
+whose model torque the fit does not determine (leverage past the kinematics' own criterion) leaves
+the validation, and nothing else does."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import equinox as eqx
+import numpy as np
+
+import lugre_jax  # noqa: F401
+from lugre_jax.diagnose import make_recording
+from lugre_jax.diagnose import _model as M
+from lugre_jax.diagnose import _select as S
+from lugre_jax.diagnose._config import DiagnoseConfig
+
+
+def _prepared():
+    rec, _ = make_recording(seed=3, effect=None, duration=60.0)
+    prep, split = S._prepare(rec, DiagnoseConfig(), None, "lugre", False)
+    return prep, split
+
+
+def test_held_out_samples_the_training_does_not_determine_leave_the_validation():
+    """Reference: the fit's own behaviour. Held out, the slow samples (|v| under 3 vs, where only Fs,
+    vs and the bristles act) while the fit sees none of them: their leverage is past 0.25 and
+    they leave ``val`` and ``keep`` (and only they); a fit moved along what the training leaves
+    undetermined (Fs and vs changed, the training SSE within a hundredth of one noise variance) predicts them
+    differently by more than half the noise. The blocks' own held-out phase loses nothing."""
+    prep, split = _prepared()
+    assert S._predicted(prep, split, False) is split  # the recording's own split: every sample determined
+
+    v = np.abs(np.asarray(prep.rec.velocity))
+    vs = float(prep.base.friction.vs)
+    slow = split.keep & (v < 3 * vs)
+    crafted = dataclasses.replace(split, val=slow, w=(split.keep & ~slow).astype(float),
+                                  cv_mask=split.keep.copy())
+    out = S._predicted(prep, crafted, False)
+    dropped = crafted.val & ~out.val
+    assert out.unpredicted == int(dropped.sum()) > 0.2 * int(slow.sum())
+    assert not np.any(out.keep & dropped) and np.array_equal(out.keep | dropped, crafted.keep)
+    assert np.array_equal(out.w, crafted.w)
+
+    tau = np.asarray(prep.rec.torque)
+    base = prep.base
+    other = eqx.tree_at(lambda m: (m.friction.Fs, m.friction.vs), base,
+                        (base.friction.Fs * 1.5, base.friction.vs * 0.7))
+    p0, p1 = M.predict(base, prep.kin), M.predict(other, prep.kin)
+    rows = crafted.w > 0
+    sse0 = float(np.sum((tau - p0)[rows] ** 2))
+    sse1 = float(np.sum((tau - p1)[rows] ** 2))
+    assert abs(sse1 - sse0) < 0.01 * 0.05 ** 2  # a hundredth of one noise variance
+    assert float(np.max(np.abs(p1 - p0)[dropped])) > 0.5 * 0.05
