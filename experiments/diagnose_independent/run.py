@@ -2033,9 +2033,11 @@ def main():
     out = Path(a.out) if a.out else (here / a.study if a.study in NEW_STUDIES else here)
     out.mkdir(parents=True, exist_ok=True)
     path = out / (f"design_{a.study}.jsonl" if a.generate_only else f"runs_{a.study}.jsonl")
+    refused = out / f"refused_{a.study}.jsonl"  # recordings the diagnosis refuses, with its one line
     done = set()
-    if path.exists():
-        done = {json.loads(line)["key"] for line in path.read_text().splitlines() if line.strip()}
+    for f in (path, refused):
+        if f.exists():
+            done |= {json.loads(line)["key"] for line in f.read_text().splitlines() if line.strip()}
     todo = [j for k, j in enumerate(jobs(a.study, [int(x) for x in a.seeds.split(",")],
                                          [float(x) for x in a.strengths.split(",")]))
             if k % n == i and j["key"] not in done and (not a.only or j["key"] in a.only.split(","))]
@@ -2049,7 +2051,13 @@ def main():
             print(f"{row['key']}: n {row['n_samples']}, peak/noise {row['peak_over_noise']:.2f}, tracking "
                   f"{row['tracking_rms_over_range']:.3f} of the range, {t_gen:.1f} s", flush=True)
             continue
-        row = run_one(job, a.top_k, cache)
+        try:
+            row = run_one(job, a.top_k, cache)
+        except ValueError as e:  # a recording the diagnosis refuses (too few resolved samples): said, not run
+            with open(refused, "a") as fh:
+                fh.write(json.dumps({"key": job["key"], "refused": str(e)}) + "\n")
+            print(f"{job['key']}: refused ({e})", flush=True)
+            continue
         with open(path, "a") as fh:  # one complete line per run: a killed run loses only itself
             fh.write(json.dumps(row, default=float) + "\n")
         ratio = row.get("floor_over_true_noise", row.get("floor_ratio"))
