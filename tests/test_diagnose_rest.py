@@ -97,3 +97,23 @@ def test_velocity_path_keeps_sharp_steps():
     assert prep.path == "complementary"  # given parameters: the first path, not a choice
     e_c, e_v = err(prep.kin), err(kin_v)
     assert e_v < 0.5 * e_c and e_v < 0.35, (e_c, e_v)
+
+
+@pytest.mark.parametrize("velocity_measured, advice", [(True, "a higher sampling rate"), (False, "a velocity sensor")])
+def test_a_recording_with_too_few_resolved_samples_is_refused_with_advice_that_fits_it(velocity_measured, advice):
+    """The refusal names what would help: a velocity sensor only where the recording has none."""
+    from lugre_jax.diagnose import make_recording
+    from lugre_jax.diagnose._condition import Conditioning
+    from lugre_jax.diagnose._select import _split
+
+    rec, _ = make_recording(seed=2, duration=20.0)
+    cond = Conditioning(torque_noise=0.05, velocity_noise=0.01, position_noise=0.0, quantisation=0.0,
+                        source="velocity", window=33, accel_noise_torque=0.0, velocity_noise_after=0.0,
+                        velocity_measured=velocity_measured)
+    unresolved = np.ones(rec.n, bool)
+    unresolved[:50] = False
+    with pytest.raises(ValueError) as e:
+        _split(rec, cond, unresolved, DiagnoseConfig())
+    msg = str(e.value)
+    assert f"only 50 of {rec.n} samples" in msg and advice in msg
+    assert ("velocity sensor" in msg) == (not velocity_measured)

@@ -368,7 +368,8 @@ def _split(rec, cond, unresolved, cfg) -> Split:
             f"{rec.source}: only {int(keep.sum())} of {rec.n} samples have kinematics resolved at this "
             f"sampling and noise and the joint moving ({cond.source}, window {cond.window}); expected at least "
             f"{cfg.min_resolved} for the fit and a quarter of that held out: a slower or smoother "
-            "excitation, or a velocity sensor, is needed")
+            f"excitation, or {'a higher sampling rate' if cond.velocity_measured else 'a velocity sensor'}, "
+            "is needed")
     return Split(blocks, keep, val, phase, folds, cv_mask, w, n_rev)
 
 
