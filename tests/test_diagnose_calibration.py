@@ -433,6 +433,7 @@ def test_accel_bandwidth_is_where_the_conditioning_passes_1_over_sqrt2_of_a_sine
     assert passed(1.05 * fc) < 0.7
     assert passed(0.6 * fc) > 0.9
 
+
 def test_held_out_confirmation_holds_its_alpha_and_has_half_the_z():
     """A step's one held-out test (``alpha_confirm = alpha``): on pure AR(1) noise, with a candidate
     of five smooth columns fitted on the training blocks, it confirms within ``alpha`` (three Monte

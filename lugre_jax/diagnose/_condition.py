@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy.signal import savgol_coeffs, savgol_filter
+from scipy.signal import freqz, savgol_coeffs, savgol_filter
 
 
 def _mad_std(d) -> float:
@@ -238,9 +238,7 @@ def accel_bandwidth(cond: "Conditioning", dt: float) -> float:
         return 0.25 / dt
     h, dv = _accel_filter(cond, dt)
     f = np.linspace(0.0, 0.5 / dt, 8193)[1:]
-    # |sum_k h_k exp(-i w k dt)|: the window's centre only shifts the phase
-    k = np.arange(h.size)
-    gain = np.abs(np.exp(-2j * np.pi * np.outer(f * dt, k)) @ h) / (2 * np.pi * f) ** (dv + 1)
+    gain = np.abs(freqz(h, worN=f, fs=1.0 / dt)[1]) / (2 * np.pi * f) ** (dv + 1)
     below = np.flatnonzero(gain < 1.0 / np.sqrt(2.0))
     return float(f[below[0]]) if below.size else 0.5 / dt
 

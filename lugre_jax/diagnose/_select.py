@@ -393,13 +393,12 @@ def _predicted(prep: Prepared, split: Split, fit_offset) -> Split:
     # ridge at rounding level, so that a direction no training row moves counts as undetermined
     norm = np.sqrt(np.sum(J ** 2, axis=0))
     J = J / np.where(norm > 0, norm, 1.0)
-    rows = split.rows[split.keep]
+    rows, held = split.rows[split.keep], split.val[split.keep]
     G = J[rows].T @ J[rows]
     G += 1e-10 * max(float(np.trace(G)) / G.shape[0], 1e-300) * np.eye(G.shape[0])
-    h = np.einsum("ij,ij->i", J, np.linalg.solve(G, J.T).T)
+    h = np.einsum("ij,ji->i", J[held], np.linalg.solve(G, J[held].T))
     bad = np.zeros_like(split.val)
-    bad[split.keep] = h > RESOLVED_BIAS_SHARE ** 2
-    bad &= split.val
+    bad[np.flatnonzero(split.keep)[held]] = h > RESOLVED_BIAS_SHARE ** 2
     if not np.any(bad) or not np.any(split.val & ~bad):
         return split
     return dataclasses.replace(split, keep=split.keep & ~bad, val=split.val & ~bad, cv_mask=split.cv_mask & ~bad,
@@ -496,6 +495,8 @@ def _locate(prep, split, floor, cfg, model, r, filter_lags, at_floor: bool):
 
 def _context(prep, split, floor, model, r, loc=None) -> M.Context:
     """The candidates' view of the current model and residual (periodogram peaks of ``r``)."""
+    from ._condition import accel_bandwidth
+
     rec = prep.rec
     inertial, F, _ = (np.asarray(x) for x in M._parts(model, prep.kin))
     if loc is not None:
@@ -504,8 +505,6 @@ def _context(prep, split, floor, model, r, loc=None) -> M.Context:
         # as the calibration's null draws find them (:mod:`._calibrate`)
         peaks = L.position_peaks_many(rec.position, r)[0]
         f_t = float(L.time_peaks_many(rec.time, r)[0])
-    from ._condition import accel_bandwidth
-
     cond = prep.cond
     return M.Context(rec=rec, kin=prep.kin, baseline=model, residual=np.asarray(r), scales=floor.scales,
                      position_peaks=peaks, time_peak_hz=f_t, friction_torque=F, inertial_torque=inertial,
