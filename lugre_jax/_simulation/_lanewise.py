@@ -152,16 +152,21 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
 
     if sample_fn is None or not mean:
         # One loop, lanes never wait for each other. A step writes ``k_rows`` samples from the first
-        # it crosses as one window per lane (a dynamic_update_slice under vmap: a scatter whose
-        # cost on XLA:CPU goes by windows, not values). Rows past the step's end, and a rejected
+        # it crosses as one window per lane. Rows past the step's end, and a rejected
         # attempt's rows, are written again later: a sample's last write is the accepted step that
         # covers it. ``k_rows`` rows of slack at the end take the last steps' windows. With
         # ``sample_fn`` the window holds its values, not the states (fewer values to write).
+        # Each scalar output (a state, or one element of a ``sample_fn`` leaf) has a buffer of its
+        # own, (b, n + k_rows), written one lane at a time by an unbatched dynamic_update_slice,
+        # in place. Under vmap the same write is a scatter, which XLA:CPU's cost model sizes by
+        # the whole buffer and splits over two threads: a hand-off to a worker thread on every
+        # step, which doubled the cost of some processes' runs. Interleaved columns, (b, (n +
+        # k_rows) * m), are written several times slower (docs/performance.md).
         rows = jnp.arange(k_rows, dtype=jnp.int32)[None, :]
         col = lambda a: a[:, None]  # noqa: E731
         if sample_fn is None:
             def values(i, ti, vals):
-                return jnp.stack(vals, axis=-1)  # (b, k_rows, N_STATES)
+                return tuple(vals)  # N_STATES of (b, k_rows)
         else:
             per_row = jax.vmap(lambda s_, i, ti, yi: sample_fn(sample(s_, i, ti, yi)), in_axes=(None, 0, 0, 0))
             per_lane_rows = eqx.filter_vmap(per_row)
@@ -169,27 +174,41 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
             def values(i, ti, vals):
                 return per_lane_rows(system, i, ti, tuple(vals))
 
+        def columns(tree, rows_):
+            """The scalar columns ((b, rows_) each) of every leaf of ``tree``, in order."""
+            return [x.reshape(b, rows_, -1)[:, :, j] for x in jax.tree.leaves(tree)
+                    for j in range(max(1, int(np.prod(x.shape[2:]))))]
+
+        def write(buf, first, x):
+            def put(lane, bl):
+                return jax.lax.dynamic_update_slice(bl, jax.lax.dynamic_slice_in_dim(x, lane, 1), (lane, first[lane]))
+
+            return jax.lax.fori_loop(jnp.int32(0), jnp.int32(b), put, buf)
+
         def body(c):
             st, bufs = c
             st, seg = advance(st)
             first = seg[6]
             i = first[:, None] + rows
             vals, _ = interpolate(seg, i)  # rows the step does not cover are written again later
-            leaves = [x.reshape(b, -1) for x in jax.tree.leaves(values(i, i * h_sample, vals))]
-            # the barrier keeps XLA from fusing the interpolation into the scatter, which then
-            # recomputes it per written value (twice the cost, docs/performance.md)
-            first, leaves = jax.lax.optimization_barrier((first, leaves))
-            return st, [jax.vmap(lambda bl, f, u, m=x.shape[1] // k_rows: jax.lax.dynamic_update_slice(bl, u, (f * m,)))(
-                buf, first, x) for buf, x in zip(bufs, leaves)]
+            cols = columns(values(i, i * h_sample, vals), k_rows)
+            # the barrier keeps XLA from fusing the interpolation into the writes, which then
+            # recompute it per written value (docs/performance.md)
+            first, cols = jax.lax.optimization_barrier((first, cols))
+            return st, [write(buf, first, x) for buf, x in zip(bufs, cols)]
 
-        v0 = y0_all[:, None, :] if sample_fn is None else values(jnp.zeros((b, 1), jnp.int32), zeros[:, None],
-                                                                 tuple(map(col, y0)))  # sample 0
+        v0 = values(jnp.zeros((b, 1), jnp.int32), zeros[:, None], tuple(map(col, y0)))  # sample 0
         leaves0, treedef = jax.tree.flatten(v0)
-        sizes = [max(1, int(np.prod(x.shape[2:]))) for x in leaves0]
-        bufs0 = [jnp.zeros((b, (n + k_rows) * m), x.dtype).at[:, :m].set(x.reshape(b, m)) for x, m in zip(leaves0, sizes)]
+        bufs0 = [jnp.zeros((b, n + k_rows), x.dtype).at[:, :1].set(x) for x in columns(v0, 1)]
         state, bufs = jax.lax.while_loop(lambda c: jnp.any(c[0][-1]), body, (state0, bufs0))
-        buf = jax.tree.unflatten(treedef, [bl[:, : n * m].reshape((b, n) + x.shape[2:])
-                                           for bl, m, x in zip(bufs, sizes, leaves0)])
+        out, k = [], 0
+        for x in leaves0:
+            m = max(1, int(np.prod(x.shape[2:])))
+            out.append(jnp.stack([bl[:, :n] for bl in bufs[k: k + m]], axis=-1).reshape((b, n) + x.shape[2:]))
+            k += m
+        buf = jax.tree.unflatten(treedef, out)
+        if sample_fn is None:
+            buf = jnp.stack(buf, axis=-1)  # (b, n, N_STATES)
         t, y, _, _, steps, ok, _ = state
         finished = ok & (t >= t_final)
         # an accepted step has a finite error estimate, so finite stages and a finite interpolant:
