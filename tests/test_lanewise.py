@@ -6,6 +6,7 @@ discontinuity (a Tsit5 stage at the step's end is evaluated at the left limit)."
 
 
 import diffrax
+import equinox as eqx
 import numpy as np
 import pytest
 
@@ -86,6 +87,40 @@ def test_lane_adaptive_mean_and_mean_of_solution_match_a_tight_solve():
     m = lj.simulate(s, 2.0, 100.0, stepping=lj.LaneAdaptive(), saveat=lj.SaveAt(mean=lambda smp: smp.theta ** 2))
     np.testing.assert_allclose(float(np.mean(np.asarray(sol.theta) ** 2)), ref, rtol=1e-6)
     np.testing.assert_allclose(float(m.value), ref, rtol=1e-6)
+
+
+def test_frozen_states_are_exactly_those_whose_rate_is_structurally_zero():
+    """A state is left out of the integration only where the right-hand side's program makes its
+    rate the constant zero; a rate that is zero for some parameter values only is integrated."""
+    from lugre_jax._simulation._lanewise import frozen_states
+
+    levels, dwell = STAIRS["on_grid"][:2]
+    pi = system(LANES["paper_like"], levels, dwell)
+    names = lj.STATE_NAMES
+
+    def frozen(s):
+        return {k for k, f in zip(names, frozen_states(lj.broadcast_system(s, 2))) if f}
+
+    assert frozen(pi) == {"current", "xd", "zh", "xp"}
+    assert frozen(eqx.tree_at(lambda s: s.controller, pi, lj.VelocityPID(kp=KP, ki=KI, kd=0.01))) == {"current", "zh", "xp"}
+    # kd as an array is a parameter (zero here, but it could be varied or differentiated)
+    assert frozen(eqx.tree_at(lambda s: s.controller, pi, lj.VelocityPID(kp=KP, ki=KI, kd=np.asarray(0.0)))) == {
+        "current", "zh", "xp"}
+    assert frozen(eqx.tree_at(lambda s: s.actuator, pi, lj.DCMotor())) == {"xd", "zh", "xp"}
+
+
+def test_a_frozen_state_keeps_its_initial_value_and_the_others_match_a_tight_solve():
+    levels, dwell = STAIRS["off_grid"][:2]
+    y0 = np.zeros(len(lj.STATE_NAMES))
+    y0[lj.STATE_NAMES.index("xd")] = 0.3  # frozen (PI); no output depends on it
+    y0[lj.STATE_NAMES.index("xi")] = 1e-3  # integrated
+    s = eqx.tree_at(lambda s: s.y0, system(LANES["paper_like"], levels, dwell), y0)
+    sol = lj.simulate(s, 1.5, 100.0, stepping=lj.LaneAdaptive())
+    tight = lj.simulate(s, 1.5, 100.0, stepping=lj.Adaptive(rtol=1e-11, atol=1e-13))
+    xd, xi = (lj.STATE_NAMES.index(k) for k in ("xd", "xi"))
+    assert np.all(np.asarray(sol.ys[:, xd]) == 0.3)
+    np.testing.assert_allclose(np.asarray(sol.theta), np.asarray(tight.theta), rtol=0, atol=POS_TOL_DEG)
+    np.testing.assert_allclose(np.asarray(sol.ys[:, xi]), np.asarray(tight.ys[:, xi]), rtol=0, atol=1e-6)
 
 
 def test_lane_adaptive_rejects_other_solvers():

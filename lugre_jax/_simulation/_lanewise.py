@@ -29,6 +29,22 @@ def end_stage(tableau) -> int:
                      "(Tsit5, Dopri5)")
 
 
+def frozen_states(system) -> tuple:
+    """For each state, whether its rate is the constant zero for this system's structure (a PI
+    controller's derivative filter, an ideal actuator's current, a controller's unused integrals):
+    such a state keeps its initial value, so the solver neither integrates nor error-checks it.
+    Read from the right-hand side's traced program for one lane; a rate that is zero only for
+    some parameter values is integrated."""
+    from jax.extend.core import Literal
+
+    arrays, static = eqx.partition(system, eqx.is_array)  # Python numbers stay compile-time constants
+    lane = jax.tree.map(lambda x: jax.ShapeDtypeStruct(x.shape[1:], x.dtype), arrays)
+    scalar = jax.ShapeDtypeStruct((), system.y0.dtype)
+    out = jax.make_jaxpr(lambda a, t, y: rates(t, y, eqx.combine(a, static)))(
+        lane, scalar, (scalar,) * system.y0.shape[-1]).jaxpr.outvars
+    return tuple(isinstance(v, Literal) and np.ndim(v.val) == 0 and float(v.val) == 0.0 for v in out)
+
+
 def _hermite(y0, k0, y1, k1, h, s):
     s2, s3 = s * s, s * s * s
     a, b, c, d = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s, 3 * s2 - 2 * s3, s3 - s2
@@ -58,6 +74,7 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
     rtol, atol = stepping.rtol, stepping.atol
     y0_all = system.y0
     b = y0_all.shape[0]
+    frozen = frozen_states(system)
 
     def one_lane(sys_, t, y, k0, h, landed):
         def f(ti, yi):
@@ -66,7 +83,8 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
         ks = [k0]
         t1 = t + h
         for i, a in enumerate(tab.a_lower):
-            stage = tuple(yc + h * sum(float(c) * k[j] for c, k in zip(a, ks) if c != 0) for j, yc in enumerate(y))
+            stage = tuple(yc if frozen[j] else yc + h * sum(float(c) * k[j] for c, k in zip(a, ks) if c != 0)
+                          for j, yc in enumerate(y))
             c = float(tab.c[i])
             if fsal and i == len(tab.a_lower) - 1:
                 # the next step's first slope: at the right limit when the step lands on a jump
@@ -76,7 +94,8 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
             else:
                 ti = t + c * h
             ks.append(f(ti, stage))
-        y1 = tuple(yc + h * sum(float(w) * k[j] for w, k in zip(tab.b_sol, ks) if w != 0) for j, yc in enumerate(y))
+        y1 = tuple(yc if frozen[j] else yc + h * sum(float(w) * k[j] for w, k in zip(tab.b_sol, ks) if w != 0)
+                   for j, yc in enumerate(y))
         k_next = ks[-1] if fsal else f(t1, y1)
         # On a step that lands on a jump, the end slope for the error estimate and the interpolant
         # is the end stage's (left limit); the FSAL stage's belongs to the next interval.
@@ -86,6 +105,8 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
             err_ks[-1] = k_end
         ratio = jnp.asarray(0.0)
         for j, (u, v) in enumerate(zip(y, y1)):
+            if frozen[j]:
+                continue
             e = h * sum(float(w) * k[j] for w, k in zip(tab.b_error, err_ks) if w != 0)
             ratio = jnp.maximum(ratio, jnp.abs(e) / (atol + rtol * jnp.maximum(jnp.abs(u), jnp.abs(v))))
         return y1, k_next, k_end, ratio
@@ -141,6 +162,7 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
         s = jnp.clip((i * h_sample - col(t)) * col(inv_h), 0.0, 1.0)
         vals = _hermite(tuple(map(col, y)), tuple(map(col, k0)), tuple(map(col, y1)), tuple(map(col, k_end)),
                         col(h), s)
+        vals = tuple(jnp.broadcast_to(col(c), s.shape) if fz else v for c, v, fz in zip(y, vals, frozen))
         take = col(accept) & (i >= col(first)) & (i <= col(last))
         return vals, take
 
