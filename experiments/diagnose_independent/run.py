@@ -1814,6 +1814,60 @@ def fresh22_settings():
     return _refreshed("fresh22", _F22_FS, _F22_VARIED, 16000)[1::2]
 
 
+# calib23 and fresh23: the design of calib22 (cc9a54a; later commits change no diagnosis), measured
+# again on three plants no earlier set used, so that one design is measured on more than 40
+# effect-free recordings
+AGILE = T.Plant(J=0.11, Fc=0.62, Fs=1.02, vs=0.047, sigma2=1.1, sigma0=175.0, sigma1=1.05)
+PONDEROUS = T.Plant(J=0.4, Fc=1.75, Fs=2.25, vs=0.072, sigma2=1.85, sigma0=320.0, sigma1=2.9)
+AVERAGE = T.Plant(J=0.22, Fc=0.95, Fs=1.32, vs=0.061, sigma2=1.4, sigma0=235.0, sigma1=1.65)
+_add_plants({"agile": (AGILE, T.VelocityPIController(kp=4.6, ki=27.0)),
+             "ponderous": (PONDEROUS, T.VelocityPIController(kp=27.0, ki=160.0)),
+             "average": (AVERAGE, T.VelocityPIController(kp=13.0, ki=80.0))},
+            {"agile": T.PositionPIDController.tuned(0.11, 3.1, tf=0.002),
+             "ponderous": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
+             "average": T.PositionPIDController.tuned(0.22, 2.9, tf=0.003)})
+
+CALIB23_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.042, 0.16, 0.55, 1.8, 3.9), "dwell": 3.4 if i % 2 else 3.9,
+                            "transition": 0.32, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.85 + 0.45 * (i % 3), "f0": 0.05, "f1": 1.5, "duration": 40.0,
+                             "bias": 0.45 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.5 * (i % 2), "f0": 0.055, "f1": 1.1 + 0.3 * (i % 3),
+                            "n": 12 + 2 * (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.2 * (i % 3), "frequency": 0.14 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -2.2, 1.8, -2.7, 2.4) if i % 2 else (-2.2, 2.9, -1.9, 2.1, -2.6, 1.4),
+                                 "move_time": 1.4 + 0.35 * (i % 2), "dwell": 2.6, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.048, 0.2, 0.66, 1.95, 3.8), "dwell": 2.6, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib23_settings(n: int = 30):
+    """A twenty-third effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (AGILE, PONDEROUS, AVERAGE), 170-1000 Hz, torque noise 0.048-0.078 N*m, white
+    in half the rows and AR(1) of coefficient 0.45 or 0.7 in the other half, velocity noise
+    0.0032-0.0048 deg/s, quantisation 0.00065-0.00115 deg; seeds 16100 + i."""
+    return _effect_free_set("calib23", CALIB23_EXCITATIONS, ["agile", "ponderous", "average"],
+                            [(True, False), (False, True), (True, True)], [170.0, 610.0, 240.0, 1000.0, 400.0],
+                            [0.078, 0.048, 0.064], [0.0, 0.45, 0.0, 0.7], [0.0032, 0.0048], [0.00065, 0.00115],
+                            16100, n, loops=("pi", "pid"), nff=3, plant_k=1, fs_k=2, tn_rule=(2, 4))
+
+
+_F23_FS = {"a": 290.0, "b": 470.0, "c": 240.0, "d": 530.0, "e": 310.0, "f": 480.0, "g": 340.0, "h": 295.0,
+           "i": 430.0}
+_F23_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.5},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.05 * kw["period"], "phase": kw["phase"] + 1.2}}
+
+
+def fresh23_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh21's half of fresh3's
+    24 effect rows at 240-530 Hz (by recipe), seeds 16200 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed."""
+    return _refreshed("fresh23", _F23_FS, _F23_VARIED, 16200)[0::2]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1834,6 +1888,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib20": calib20_settings, "fresh20": fresh20_settings,
             "calib21": calib21_settings, "outside8": outside8_settings, "fresh21": fresh21_settings,
             "calib22": calib22_settings, "fresh22": fresh22_settings,
+            "calib23": calib23_settings, "fresh23": fresh23_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2005,7 +2060,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
-               "fresh22")
+               "fresh22", "calib23", "fresh23")
 
 
 def main():
