@@ -45,6 +45,13 @@ def frozen_states(system) -> tuple:
     return tuple(isinstance(v, Literal) and np.ndim(v.val) == 0 and float(v.val) == 0.0 for v in out)
 
 
+def writes_per_lane() -> bool:
+    """Whether the sample buffers are written one lane at a time (XLA:CPU, see
+    :func:`solve_lanewise`); an accelerator gets one scatter per step, whose windows it writes in
+    parallel (a loop over the lanes would be one kernel launch per lane and step there)."""
+    return jax.default_backend() == "cpu"
+
+
 def _hermite(y0, k0, y1, k1, h, s):
     s2, s3 = s * s, s * s * s
     a, b, c, d = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s, 3 * s2 - 2 * s3, s3 - s2
@@ -179,11 +186,11 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
         # covers it. ``k_rows`` rows of slack at the end take the last steps' windows. With
         # ``sample_fn`` the window holds its values, not the states (fewer values to write).
         # Each scalar output (a state, or one element of a ``sample_fn`` leaf) has a buffer of its
-        # own, (b, n + k_rows), written one lane at a time by an unbatched dynamic_update_slice,
-        # in place. Under vmap the same write is a scatter, which XLA:CPU's cost model sizes by
-        # the whole buffer and splits over two threads: a hand-off to a worker thread on every
-        # step, which doubled the cost of some processes' runs. Interleaved columns, (b, (n +
-        # k_rows) * m), are written several times slower (docs/performance.md).
+        # own, (b, n + k_rows), on a CPU written one lane at a time by an unbatched
+        # dynamic_update_slice, in place. Under vmap the same write is a scatter, which XLA:CPU's
+        # cost model sizes by the whole buffer and splits over two threads: a hand-off to a worker
+        # thread on every step, which doubled the cost of some processes' runs. Interleaved
+        # columns, (b, (n + k_rows) * m), are written several times slower (docs/performance.md).
         rows = jnp.arange(k_rows, dtype=jnp.int32)[None, :]
         col = lambda a: a[:, None]  # noqa: E731
         if sample_fn is None:
@@ -201,7 +208,12 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
             return [x.reshape(b, rows_, -1)[:, :, j] for x in jax.tree.leaves(tree)
                     for j in range(max(1, int(np.prod(x.shape[2:]))))]
 
+        per_lane = writes_per_lane()
+
         def write(buf, first, x):
+            if not per_lane:  # an accelerator runs the scatter's windows in parallel
+                return jax.vmap(lambda bl, f, u: jax.lax.dynamic_update_slice(bl, u, (f,)))(buf, first, x)
+
             def put(lane, bl):
                 return jax.lax.dynamic_update_slice(bl, jax.lax.dynamic_slice_in_dim(x, lane, 1), (lane, first[lane]))
 
