@@ -293,6 +293,25 @@ def test_a_ripple_whose_gain_lives_at_one_speed_is_implausible():
     assert why is not None and "speed quartiles" in why, why
 
 
+def test_a_compliance_is_plausible_up_to_the_accelerations_bandwidth():
+    """Compliance.implausible: a natural frequency below the conditioned acceleration's bandwidth
+    (where it still passes 1/sqrt(2) of a sine's acceleration) stays, one above it is refused."""
+    from types import SimpleNamespace
+
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose._physics import Compliance
+
+    ctx = SimpleNamespace(accel_bandwidth_hz=6.48, baseline=SimpleNamespace(J=0.2))
+
+    def spring(fn):
+        return Compliance(jnp.asarray(fn), jnp.asarray(0.1), jnp.asarray(0.06))
+
+    assert spring(4.91).implausible(ctx) is None
+    why = spring(6.6).implausible(ctx)
+    assert why is not None and "bandwidth 6.48 Hz" in why, why
+
+
 def test_a_backlash_narrower_than_the_bristles_is_implausible():
     """Backlash.implausible: with a LuGre baseline of pre-sliding length max(Fs, Fc)/sigma0 = 0.005
     deg, a gap of 0.001 deg acts within the bristles' own transition after a reversal and is
