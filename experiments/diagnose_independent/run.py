@@ -1868,6 +1868,59 @@ def fresh23_settings():
     return _refreshed("fresh23", _F23_FS, _F23_VARIED, 16200)[0::2]
 
 
+# calib24 and fresh24: after compliance is plausible up to the acceleration's bandwidth (not 0.7
+# of it); three plants no earlier set used
+BRISKER = T.Plant(J=0.1, Fc=0.58, Fs=0.98, vs=0.052, sigma2=1.08, sigma0=165.0, sigma1=0.95)
+HEAVYSET = T.Plant(J=0.38, Fc=1.68, Fs=2.15, vs=0.069, sigma2=1.78, sigma0=310.0, sigma1=2.75)
+MIDSIZE = T.Plant(J=0.21, Fc=0.9, Fs=1.28, vs=0.06, sigma2=1.35, sigma0=228.0, sigma1=1.58)
+_add_plants({"brisker": (BRISKER, T.VelocityPIController(kp=4.3, ki=25.0)),
+             "heavyset": (HEAVYSET, T.VelocityPIController(kp=26.0, ki=155.0)),
+             "midsize": (MIDSIZE, T.VelocityPIController(kp=12.5, ki=78.0))},
+            {"brisker": T.PositionPIDController.tuned(0.1, 3.15, tf=0.002),
+             "heavyset": T.PositionPIDController.tuned(0.38, 2.55, tf=0.005),
+             "midsize": T.PositionPIDController.tuned(0.21, 2.95, tf=0.003)})
+
+CALIB24_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.04, 0.15, 0.57, 1.75, 3.7), "dwell": 3.5 if i % 2 else 3.7,
+                            "transition": 0.33, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.5 * (i % 3), "f0": 0.049, "f1": 1.45, "duration": 38.5,
+                             "bias": 0.5 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.45 * (i % 2), "f0": 0.056, "f1": 1.15 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 38.5},
+    "position_sine": lambda i: {"amplitude": 2.7 + 2.1 * (i % 3), "frequency": 0.15 + 0.045 * (i % 2),
+                                "duration": 33.5},
+    "point_to_point": lambda i: {"amplitudes": (2.4, -2.3, 1.7, -2.5, 2.3) if i % 2 else (-2.3, 2.7, -1.8, 2.2, -2.5, 1.3),
+                                 "move_time": 1.35 + 0.4 * (i % 2), "dwell": 2.55, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.046, 0.19, 0.64, 2.0, 3.75), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib24_settings(n: int = 30):
+    """A twenty-fourth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (BRISKER, HEAVYSET, MIDSIZE), 190-900 Hz, torque noise 0.05-0.076 N*m, white
+    in half the rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise
+    0.0034-0.0046 deg/s, quantisation 0.0007-0.0012 deg; seeds 16300 + i."""
+    return _effect_free_set("calib24", CALIB24_EXCITATIONS, ["brisker", "heavyset", "midsize"],
+                            [(False, True), (True, True), (True, False)], [190.0, 560.0, 280.0, 900.0, 360.0],
+                            [0.05, 0.076, 0.063], [0.0, 0.5, 0.0, 0.65], [0.0034, 0.0046], [0.0007, 0.0012],
+                            16300, n, loops=("pid", "pi"), nff=0, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F24_FS = {"a": 310.0, "b": 455.0, "c": 260.0, "d": 545.0, "e": 300.0, "f": 470.0, "g": 355.0, "h": 285.0,
+           "i": 415.0}
+_F24_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.7},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.92 * kw["period"], "phase": kw["phase"] - 0.6}}
+
+
+def fresh24_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh23's half of fresh3's
+    24 effect rows (compliance b and d among them) at 260-545 Hz (by recipe), seeds 16400 + k, with
+    the gravity's phase, the asymmetry's sign and the ripple's period and phase changed."""
+    return _refreshed("fresh24", _F24_FS, _F24_VARIED, 16400)[0::2]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1889,6 +1942,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib21": calib21_settings, "outside8": outside8_settings, "fresh21": fresh21_settings,
             "calib22": calib22_settings, "fresh22": fresh22_settings,
             "calib23": calib23_settings, "fresh23": fresh23_settings,
+            "calib24": calib24_settings, "fresh24": fresh24_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2060,7 +2114,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
-               "fresh22", "calib23", "fresh23")
+               "fresh22", "calib23", "fresh23", "calib24", "fresh24")
 
 
 def main():
