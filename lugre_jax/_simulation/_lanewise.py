@@ -203,10 +203,13 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
             def values(i, ti, vals):
                 return per_lane_rows(system, i, ti, tuple(vals))
 
+        def width(x):
+            """Scalar columns of a leaf ``(b, rows, ...)``: one per element of a sample's value."""
+            return max(1, int(np.prod(x.shape[2:])))
+
         def columns(tree, rows_):
             """The scalar columns ((b, rows_) each) of every leaf of ``tree``, in order."""
-            return [x.reshape(b, rows_, -1)[:, :, j] for x in jax.tree.leaves(tree)
-                    for j in range(max(1, int(np.prod(x.shape[2:]))))]
+            return [x.reshape(b, rows_, -1)[:, :, j] for x in jax.tree.leaves(tree) for j in range(width(x))]
 
         per_lane = writes_per_lane()
 
@@ -237,7 +240,7 @@ def solve_lanewise(system, n: int, sample_hz: float, stepping, sample_fn=None, m
         state, bufs = jax.lax.while_loop(lambda c: jnp.any(c[0][-1]), body, (state0, bufs0))
         out, k = [], 0
         for x in leaves0:
-            m = max(1, int(np.prod(x.shape[2:])))
+            m = width(x)
             out.append(jnp.stack([bl[:, :n] for bl in bufs[k: k + m]], axis=-1).reshape((b, n) + x.shape[2:]))
             k += m
         buf = jax.tree.unflatten(treedef, out)
