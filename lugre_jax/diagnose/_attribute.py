@@ -97,6 +97,104 @@ def _sincos(t, f):
     return np.column_stack([np.sin(2 * np.pi * f * t), np.cos(2 * np.pi * f * t)])
 
 
+def motion_lines(t, v, alpha: float, max_lines: int = 64) -> np.ndarray:
+    """Frequencies of the motion's spectral lines: ordinates of the velocity's Hann-tapered periodogram
+    beyond its local median background at family-wise ``alpha`` (Bonferroni over the ordinates, the
+    median's own spread allowed for as in :func:`._locate._time_lines`), taken strongest first, each
+    placed at its transform's peak within a Fourier bin and fitted out with the lines before it (so
+    neither its side lobes nor its neighbours' leakage count; the taper keeps a line's leakage below
+    the noise a few bins away, where the median looks). A linear error of the measured kinematics
+    (smoothing, a delay, a sensor's dynamics) puts a sinusoid at every motion line into the
+    residual, so a disturbance periodic in time is not identifiable there."""
+    from ._locate import BACKGROUND_DOF, _local_background
+
+    t = np.asarray(t, float)
+    x = np.asarray(v, float) - float(np.mean(v))
+    if x.size < 16 or not np.all(np.isfinite(x)):
+        return np.zeros(0)
+    w = np.hanning(x.size)
+    sw = np.sqrt(w)
+    f = np.fft.rfftfreq(x.size, float(np.median(np.diff(t))))[1:]
+    bound = np.log(alpha / f.size)
+    lines: list[float] = []
+    # the lines are fitted by least squares weighted by the taper (unweighted, the lines not yet
+    # found leak into the fitted ones' amplitudes and leave remainders that read as lines), kept as
+    # an orthonormal basis Q of the weighted columns so each line costs one projection
+    y = sw * x
+    Q = np.zeros((x.size, 0))
+    bg = None
+    while len(lines) < max_lines:
+        P = np.abs(np.fft.rfft(sw * y))[1:] ** 2 / np.sum(w ** 2)  # the residual's tapered periodogram
+        if bg is None:
+            # the background of what is left: lines crowded within a median's window (a
+            # multisine's low end) raise it until the lines among them are fitted out
+            bg, used = _local_background(P, 200)
+            nu = BACKGROUND_DOF * used
+            n_before = len(lines)
+        logp = -nu * np.log1p(P / np.maximum(bg / np.log(2), 1e-300) / nu)
+        k = int(np.argmin(logp))
+        if logp[k] > bound:
+            if len(lines) == n_before:
+                break
+            bg = None
+            continue
+        lines.append(_peak(t, sw * y, f[k], f[0]))
+        c = sw[:, None] * _sincos(t, lines[-1])
+        for _ in range(2):
+            c = c - Q @ (Q.T @ c)
+        q = C._orth(c)
+        Q = np.column_stack([Q, q])
+        y = y - q @ (q.T @ y)
+    return np.asarray(lines)
+
+
+def _peak(t, y, f0: float, df: float) -> float:
+    """The frequency within a Fourier bin ``df`` of ``f0`` where ``y``'s transform peaks, to a
+    millionth of a bin: a strong line fitted out at a frequency off by a fraction of a bin leaves
+    a remainder at its side that is itself a line above the background."""
+    from scipy.optimize import minimize_scalar
+
+    res = minimize_scalar(lambda fl: -abs(np.sum(np.exp(-2j * np.pi * fl * t) * y)),
+                          bounds=(f0 - df, f0 + df), method="bounded", options={"xatol": 1e-6 * df})
+    return float(res.x)
+
+
+def _off_lines(X, M, rows):
+    """The columns ``X`` (every sample) less their least-squares fit on the training ``rows`` by the
+    motion lines' columns ``M``: what of them a linear kinematic error cannot make."""
+    X = np.atleast_2d(np.asarray(X, float).T).T
+    if M is None or M.shape[1] == 0:
+        return X
+    c, *_ = np.linalg.lstsq(M[rows], X[rows], rcond=None)
+    return X - M @ c
+
+
+def _line_columns(t, lines) -> np.ndarray | None:
+    return np.column_stack([_sincos(t, fl) for fl in lines]) if len(lines) else None
+
+
+def kinematic_lines(model, kin, t, r, rows, freqs, cond) -> np.ndarray | None:
+    """The columns (sin, cos) of the motion's lines ``freqs`` (:func:`motion_lines`) at which the
+    residual ``r`` is no larger than the error the conditioned acceleration's filter makes there
+    (the model's inertial torque's amplitude at the line times :func:`._condition.accel_error`;
+    amplitudes fitted jointly on the training ``rows``). A disturbance in a closed loop puts a line
+    into the motion too, but one the loop rejects: its residual there is the disturbance, larger
+    than any error of the motion's small acceleration at that line."""
+    from ._condition import accel_error
+
+    if cond is None or freqs is None:
+        return None
+    lines = _line_columns(t, freqs)
+    if lines is None:
+        return None
+    inertial = np.asarray(M._parts(model, kin)[0], float)
+    c, *_ = np.linalg.lstsq(lines[rows], np.column_stack([inertial, r])[rows], rcond=None)
+    amp = np.hypot(c[0::2], c[1::2])  # lines x (inertial torque, residual)
+    err = accel_error(cond, float(np.median(np.diff(t))), freqs)
+    keep = np.repeat(err * amp[:, 0] >= amp[:, 1], 2)
+    return lines[:, keep] if keep.any() else None
+
+
 def held_out_gains(base, X, E, rows, val) -> np.ndarray:
     """The held-out statistic ``sum_val(r0^2 - r1^2)`` on every null draw (rows of ``E``, every
     sample): ``r0`` the draw less its least-squares fit on the training ``rows`` by ``base``'s
@@ -178,13 +276,15 @@ def _line_frequency(t, r, mask) -> float:
 
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
-              at_floor_nm: float | None = None) -> Attribution:
+              at_floor_nm: float | None = None, motion=None, cond=None) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
-    ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. Where the held-out RMSE
-    with a term stays above ``at_floor_nm`` (the at-floor bound) the residual holds misfit the null
-    draws do not describe, so the term's held-out p is the larger of the draws' and the analytic
-    one (which allows any colour). Every draw's columns are built from the kinematics its residual
-    was made through (:class:`._calibrate.Views`)."""
+    ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. The time line is
+    searched and fitted off the motion's lines ``motion`` (:func:`motion_lines`) that an error of
+    the kinematics conditioned as ``cond`` can explain (:func:`kinematic_lines`). Where the held-out
+    RMSE with a term stays above ``at_floor_nm`` (the at-floor bound) the residual holds misfit the
+    null draws do not describe, so the term's held-out p is the larger of the draws' and the
+    analytic one (which allows any colour). Every draw's columns are built from the kinematics its
+    residual was made through (:class:`._calibrate.Views`)."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
 
@@ -192,6 +292,11 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         return groups_on(model, ctx, k, window, quantised_derivatives)
 
     groups = terms_on(kin)
+    lines = kinematic_lines(model, kin, t, r, rows, motion, cond)
+
+    def line_at(f):
+        return _off_lines(_sincos(t, f), lines, rows)
+
     widths = np.cumsum([0] + [X.shape[1] for _, X in groups])
     nb = C.NullBasis(model, specs, kin, rows, null, n_draws, seed, nuisance)
     E, Rn, views = nb.draws.E, nb.R, nb.views
@@ -214,7 +319,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     line_f = None
 
     def draw_chosen(d, cols):
-        return [cols[i] if i is not None else _sincos(t, line_f) for i in chosen_i]
+        return [cols[i] if i is not None else line_at(line_f) for i in chosen_i]
 
     for _ in range(max_terms):
         Q = C._orth(np.column_stack([QB] + [X[rows] for _, X in chosen])) if chosen else QB
@@ -222,11 +327,12 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         have_line = TIME_LINE.name in [c[0].name for c in chosen]
         line_X = None
         if not have_line:
-            f_obs = _line_frequency(t, r, rows)
-            line_X = _sincos(t, f_obs)
-            full = np.zeros((n_draws, r.size))
-            full[:, rows] = Rn.T
-            fb = _time_line_freqs(t, full, rows)
+            f_obs = _line_frequency(t, _off_lines(r, lines, rows)[:, 0], rows)
+            line_X = line_at(f_obs)
+            full = np.zeros((r.size, n_draws))
+            full[rows] = Rn
+            full = np.where(rows[:, None], _off_lines(full, lines, rows), 0.0)
+            fb = _time_line_freqs(t, full.T, rows)
         # each draw: its own basis (the model's on its kinematics, the chosen terms' on them), its
         # residual with that basis taken out, and every group's gain on it
         T = np.zeros((n_draws, len(left) + (line_X is not None)))
@@ -238,7 +344,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             rd = rd - Qd @ (Qd.T @ rd) if chosen else rd
             T[d, :len(left)] = [C._gains(Qd, cols[i][rows], rd)[0] for i in left]
             if line_X is not None:
-                T[d, -1] = C._gains(Qd, _sincos(t, fb[d])[rows], rd)[0]
+                T[d, -1] = C._gains(Qd, line_at(fb[d])[rows], rd)[0]
         cands = [groups[i] for i in left]
         obs = [float(C._gains(Q, X[rows], r[rows][:, None])[0]) for _, X in cands]
         idx = list(left)
@@ -269,7 +375,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             for d in range(n_draws):
                 cols = columns(d)
                 base_d = np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols))
-                X_d = cols[idx[k]] if idx[k] is not None else _sincos(t, fb[d])
+                X_d = cols[idx[k]] if idx[k] is not None else line_at(fb[d])
                 d_null[d] = held_out_gains(base_d, X_d, E[d:d + 1], rows, val)[0]
             p_held = float((1.0 + np.sum(d_null >= d_obs)) / (n_draws + 1.0))
             if at_floor_nm is not None and new > at_floor_nm:
@@ -304,13 +410,14 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
 
 
 def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,
-           nuisance=None) -> list:
+           nuisance=None, motion=None, cond=None) -> list:
     """Every library group and the time line as a rival explanation of the current residual
     ``ctx.residual``: ``(group, cross-validated residual)``, each phase of ``folds`` predicted by
     the term with the current model's linearised refit (its Jacobian and the ``nuisance``
     columns) fitted on the other kept samples, the time line's frequency searched on those
-    samples too; 0 elsewhere. A candidate is compared with these by :func:`._calibrate.held_out_p`
-    on the same phases as its own cross-validated residual."""
+    samples too, off the motion's lines ``motion`` a kinematic error can explain
+    (:func:`kinematic_lines`); 0 elsewhere. A candidate is compared with these by
+    :func:`._calibrate.held_out_p` on the same phases as its own cross-validated residual."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
     n = r.size
@@ -319,13 +426,19 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)])
     phase = blocks % M.VALIDATION_EVERY
+    lines = kinematic_lines(model, kin, t, r, keep, motion, cond)
     out = []
     for g, X in groups:
         cv = np.zeros(n)
         for j in folds:
             fold = keep & (phase == j)
             fit = keep & ~fold
-            D = np.column_stack([JB, X if X is not None else _sincos(t, _line_frequency(t, r, fit))])
+            if X is None:
+                f_line = _line_frequency(t, _off_lines(r, lines, fit)[:, 0], fit)
+                X_fit = _off_lines(_sincos(t, f_line), lines, fit)
+            else:
+                X_fit = X
+            D = np.column_stack([JB, X_fit])
             beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
             cv[fold] = (r - D @ beta)[fold]
         out.append((g, cv))

@@ -243,6 +243,25 @@ def accel_bandwidth(cond: "Conditioning", dt: float) -> float:
     return float(f[below[0]]) if below.size else 0.5 / dt
 
 
+def accel_error(cond: "Conditioning", dt: float, f) -> np.ndarray:
+    """Relative error ``|1/G(f) - 1|`` of the conditioned acceleration at frequencies ``f`` [Hz]:
+    ``G`` the Savitzky-Golay window's gain over the exact derivative's, so a sine of estimated
+    amplitude A there is truly ``A/G``. Blended, the larger of the windows W and 2W-1 (the blend's
+    coefficient is itself estimated, between or beyond them); unblended, W's. A recorded
+    acceleration's sensor filter is not known: 0 (no systematic error claimed)."""
+    f = np.atleast_1d(np.asarray(f, float))
+    if cond.source == "recording":
+        return np.zeros_like(f)
+    dv = 0 if cond.source == "velocity" else 1
+    ideal = (2 * np.pi * f) ** (dv + 1)
+    out = np.zeros_like(f)
+    for W in ((cond.window, 2 * cond.window - 1) if cond.blend else (cond.window,)):
+        h = savgol_coeffs(W, cond.order, deriv=dv + 1, delta=dt)
+        G = np.abs(freqz(h, worN=f, fs=1.0 / dt)[1]) / ideal
+        out = np.maximum(out, np.abs(1.0 / np.maximum(G, 1e-12) - 1.0))
+    return out
+
+
 def memory(cond: "Conditioning") -> int:
     """Samples the conditioned acceleration at one sample draws on: the window, or the wider window
     ``2W-1`` when blended with it."""

@@ -27,7 +27,7 @@ import numpy as np
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
-from ._attribute import rivals
+from ._attribute import motion_lines, rivals
 from ._calibrate import held_out_p, rejects
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
@@ -167,7 +167,9 @@ class Prepared:
     ``rec_in``: as loaded; ``rec``: conditioned; ``cond``: how; ``unresolved``: samples inside
     transients the sampling does not resolve; ``kin``: kinematics along the chosen bristle ``path``;
     ``base``: the baseline; ``info``: its fit record; ``k``: its free-parameter count; ``at_rest``:
-    the dwells left out (part of ``unresolved``)."""
+    the dwells left out (part of ``unresolved``); ``lines``: frequencies of the motion's spectral
+    lines (:func:`._attribute.motion_lines`), where a time-periodic term is not told from a kinematic
+    error."""
 
     rec_in: object
     rec: object
@@ -179,6 +181,7 @@ class Prepared:
     info: dict
     k: int
     at_rest: np.ndarray
+    lines: np.ndarray
 
 
 @dataclasses.dataclass(frozen=True)
@@ -309,7 +312,8 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         kin = paths[path]
         info["bristle_path"] = path
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
-    return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest), split
+    lines = motion_lines(np.asarray(rec.time, float), np.asarray(kin.v, float), cfg.alpha_attribute)
+    return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest, lines), split
 
 
 def _dwells(crec, cond, cfg) -> np.ndarray:
@@ -587,7 +591,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 # Bonferroni over the terms at the naming test's share of alpha)
                 if rivals_step is None:
                     rivals_step = rivals(current, specs_cur, ctx, kin, keep, split.blocks, split.folds,
-                                         _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"])
+                                         _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"],
+                                         motion=prep.lines, cond=prep.cond)
                 if rivals_step:
                     p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
                     best = int(np.argmin(p_under))
@@ -684,7 +689,7 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
                      quantised_derivatives=_quantised_derivatives(prep.cond),
-                     at_floor_nm=cfg.at_floor * floor.floor_nm)
+                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
