@@ -1921,6 +1921,59 @@ def fresh24_settings():
     return _refreshed("fresh24", _F24_FS, _F24_VARIED, 16400)[0::2]
 
 
+# calib25 and fresh25: after the time line is searched and fitted off the motion's own spectral
+# lines; three plants no earlier set used
+SVELTE = T.Plant(J=0.12, Fc=0.62, Fs=1.02, vs=0.048, sigma2=1.12, sigma0=172.0, sigma1=1.02)
+THICKSET = T.Plant(J=0.41, Fc=1.74, Fs=2.22, vs=0.072, sigma2=1.84, sigma0=322.0, sigma1=2.9)
+MODERATE = T.Plant(J=0.23, Fc=0.95, Fs=1.33, vs=0.057, sigma2=1.41, sigma0=236.0, sigma1=1.66)
+_add_plants({"svelte": (SVELTE, T.VelocityPIController(kp=4.8, ki=28.0)),
+             "thickset": (THICKSET, T.VelocityPIController(kp=28.0, ki=165.0)),
+             "moderate": (MODERATE, T.VelocityPIController(kp=13.5, ki=82.0))},
+            {"svelte": T.PositionPIDController.tuned(0.12, 3.1, tf=0.002),
+             "thickset": T.PositionPIDController.tuned(0.41, 2.5, tf=0.005),
+             "moderate": T.PositionPIDController.tuned(0.23, 2.9, tf=0.003)})
+
+CALIB25_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.038, 0.14, 0.6, 1.7, 3.9), "dwell": 3.3 if i % 2 else 3.9,
+                            "transition": 0.36, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.45 * (i % 3), "f0": 0.051, "f1": 1.55, "duration": 39.5,
+                             "bias": 0.45 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.5 * (i % 2), "f0": 0.053, "f1": 1.2 + 0.35 * (i % 3),
+                            "n": 10 + 3 * (i % 2), "duration": 39.5},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.3 * (i % 3), "frequency": 0.16 + 0.04 * (i % 2),
+                                "duration": 34.5},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.5, 1.6, -2.4, 2.6) if i % 2 else (-2.4, 2.6, -1.7, 2.3, -2.2, 1.4),
+                                 "move_time": 1.4 + 0.35 * (i % 2), "dwell": 2.5, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.18, 0.7, 2.1, 3.6), "dwell": 2.6, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib25_settings(n: int = 30):
+    """A twenty-fifth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (SVELTE, THICKSET, MODERATE), 210-850 Hz, torque noise 0.055-0.08 N*m, white
+    in half the rows and AR(1) of coefficient 0.55 or 0.7 in the other half, velocity noise
+    0.0031-0.0049 deg/s, quantisation 0.0006-0.0013 deg; seeds 16500 + i."""
+    return _effect_free_set("calib25", CALIB25_EXCITATIONS, ["svelte", "thickset", "moderate"],
+                            [(False, True), (True, True), (True, False)], [210.0, 620.0, 330.0, 850.0, 240.0],
+                            [0.055, 0.08, 0.066], [0.0, 0.55, 0.0, 0.7], [0.0031, 0.0049], [0.0006, 0.0013],
+                            16500, n, loops=("pid", "pi"), nff=1, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F25_FS = {"a": 290.0, "b": 430.0, "c": 275.0, "d": 520.0, "e": 320.0, "f": 445.0, "g": 340.0, "h": 300.0,
+           "i": 395.0}
+_F25_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.5},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.08 * kw["period"], "phase": kw["phase"] + 0.9}}
+
+
+def fresh25_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: the other half of fresh3's
+    24 effect rows than fresh24's (backlash, thermal drift, load-dependent and compliance c among
+    them) at 275-520 Hz (by recipe), seeds 16600 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh25", _F25_FS, _F25_VARIED, 16600)[1::2]
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1943,6 +1996,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib22": calib22_settings, "fresh22": fresh22_settings,
             "calib23": calib23_settings, "fresh23": fresh23_settings,
             "calib24": calib24_settings, "fresh24": fresh24_settings,
+            "calib25": calib25_settings, "fresh25": fresh25_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2114,7 +2168,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
-               "fresh22", "calib23", "fresh23", "calib24", "fresh24")
+               "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25")
 
 
 def main():
