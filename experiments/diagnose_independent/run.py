@@ -1974,6 +1974,61 @@ def fresh25_settings():
     and the ripple's period and phase changed."""
     return _refreshed("fresh25", _F25_FS, _F25_VARIED, 16600)[1::2]
 
+# calib26 and fresh26: after the smoothing-bias rule reads the fitted model's whole torque; three
+# plants no earlier set used
+COMPACT = T.Plant(J=0.14, Fc=0.7, Fs=1.08, vs=0.05, sigma2=1.18, sigma0=185.0, sigma1=1.1)
+ROBUST = T.Plant(J=0.36, Fc=1.6, Fs=2.05, vs=0.066, sigma2=1.7, sigma0=300.0, sigma1=2.6)
+GANGLY = T.Plant(J=0.2, Fc=0.88, Fs=1.3, vs=0.062, sigma2=1.3, sigma0=220.0, sigma1=1.5)
+_add_plants({"compact": (COMPACT, T.VelocityPIController(kp=5.5, ki=32.0)),
+             "robust": (ROBUST, T.VelocityPIController(kp=25.0, ki=150.0)),
+             "gangly": (GANGLY, T.VelocityPIController(kp=12.0, ki=74.0))},
+            {"compact": T.PositionPIDController.tuned(0.14, 3.05, tf=0.002),
+             "robust": T.PositionPIDController.tuned(0.36, 2.6, tf=0.005),
+             "gangly": T.PositionPIDController.tuned(0.2, 2.95, tf=0.003)})
+
+CALIB26_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.042, 0.16, 0.55, 1.8, 3.6), "dwell": 3.4 if i % 2 else 3.8,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.85 + 0.5 * (i % 3), "f0": 0.047, "f1": 1.5, "duration": 37.5,
+                             "bias": 0.55 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.05 + 0.45 * (i % 2), "f0": 0.055, "f1": 1.1 + 0.35 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 37.5},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.2 * (i % 3), "frequency": 0.155 + 0.045 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.4, 1.8, -2.6, 2.2) if i % 2 else (-2.2, 2.8, -1.6, 2.4, -2.4, 1.2),
+                                 "move_time": 1.3 + 0.4 * (i % 2), "dwell": 2.6, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.048, 0.2, 0.62, 1.9, 3.8), "dwell": 2.55, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib26_settings(n: int = 30):
+    """A twenty-sixth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops x the three sensor sets, on three plants no
+    earlier set used (COMPACT, ROBUST, GANGLY), 200-880 Hz, torque noise 0.058-0.078 N*m, white
+    in half the rows and AR(1) of coefficient 0.6 or 0.45 in the other half, velocity noise
+    0.0033-0.0052 deg/s, quantisation 0.0005-0.0011 deg; seeds 16700 + i."""
+    return _effect_free_set("calib26", CALIB26_EXCITATIONS, ["compact", "robust", "gangly"],
+                            [(False, True), (True, True), (True, False)], [230.0, 640.0, 300.0, 880.0, 200.0],
+                            [0.058, 0.078, 0.062], [0.0, 0.6, 0.0, 0.45], [0.0033, 0.0052], [0.0005, 0.0011],
+                            16700, n, loops=("pid", "pi"), nff=2, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F26_FS = {"a": 330.0, "b": 470.0, "c": 250.0, "d": 500.0, "e": 285.0, "f": 430.0, "g": 365.0, "h": 275.0,
+           "i": 405.0}
+_F26_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.1},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] - 1.0}}
+
+
+def fresh26_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's effect rows k
+    with k % 4 in (1, 2), half from each of fresh24's and fresh25's halves (Stribeck shape d and h,
+    load-dependent e, compliance b, backlash a and e among them), at 250-500 Hz (by recipe), seeds
+    16800 + k, with the gravity's phase, the asymmetry's sign and the ripple's period and phase
+    changed."""
+    rows = _refreshed("fresh26", _F26_FS, _F26_VARIED, 16800)
+    return [r for k, r in enumerate(rows) if k % 4 in (1, 2)]
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -1997,6 +2052,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib23": calib23_settings, "fresh23": fresh23_settings,
             "calib24": calib24_settings, "fresh24": fresh24_settings,
             "calib25": calib25_settings, "fresh25": fresh25_settings,
+            "calib26": calib26_settings, "fresh26": fresh26_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2168,7 +2224,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib12", "fresh13", "calib13", "fresh14", "calib14", "fresh15", "calib15", "fresh16",
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
-               "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25")
+               "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
+               "calib26", "fresh26")
 
 
 def main():
