@@ -106,7 +106,7 @@ def motion_lines(t, v, alpha: float, max_lines: int = 64) -> np.ndarray:
     the noise a few bins away, where the median looks). A linear error of the measured kinematics
     (smoothing, a delay, a sensor's dynamics) puts a sinusoid at every motion line into the
     residual, so a disturbance periodic in time is not identifiable there."""
-    from ._locate import BACKGROUND_DOF, _local_background
+    from ._locate import _local_background, line_logp
 
     t = np.asarray(t, float)
     x = np.asarray(v, float) - float(np.mean(v))
@@ -129,9 +129,8 @@ def motion_lines(t, v, alpha: float, max_lines: int = 64) -> np.ndarray:
             # the background of what is left: lines crowded within a median's window (a
             # multisine's low end) raise it until the lines among them are fitted out
             bg, used = _local_background(P, 200)
-            nu = BACKGROUND_DOF * used
             n_before = len(lines)
-        logp = -nu * np.log1p(P / np.maximum(bg / np.log(2), 1e-300) / nu)
+        logp = line_logp(P, bg, used)[1]
         k = int(np.argmin(logp))
         if logp[k] > bound:
             if len(lines) == n_before:
@@ -167,6 +166,11 @@ def _off_lines(X, M, rows):
         return X
     c, *_ = np.linalg.lstsq(M[rows], X[rows], rcond=None)
     return X - M @ c
+
+
+def _time_line(t, f, lines, rows):
+    """The time line's columns at frequency ``f``, off the motion's ``lines`` (fitted on ``rows``)."""
+    return _off_lines(_sincos(t, f), lines, rows)
 
 
 def _line_columns(t, lines) -> np.ndarray | None:
@@ -268,9 +272,11 @@ def groups_on(model, ctx, kin, window: int, quantised_derivatives: bool) -> list
             if not (quantised_derivatives and g.name in ACCELERATION_GROUPS)]
 
 
-def _line_frequency(t, r, mask) -> float:
-    """The time line's frequency: the strongest of ``r`` on the samples ``mask`` (0 elsewhere, as
-    on the null draws, so that samples held out stay unseen)."""
+def _line_frequency(t, r, mask, lines=None) -> float:
+    """The time line's frequency: the strongest of ``r`` off the motion's ``lines`` (fitted on
+    ``mask``) on the samples ``mask`` (0 elsewhere, as on the null draws, so that samples held out
+    stay unseen)."""
+    r = _off_lines(r, lines, mask)[:, 0]
     return float(_time_line_freqs(t, np.where(mask, r, 0.0)[None, :], mask)[0])
 
 
@@ -295,7 +301,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     lines = kinematic_lines(model, kin, t, r, rows, motion, cond)
 
     def line_at(f):
-        return _off_lines(_sincos(t, f), lines, rows)
+        return _time_line(t, f, lines, rows)
 
     widths = np.cumsum([0] + [X.shape[1] for _, X in groups])
     nb = C.NullBasis(model, specs, kin, rows, null, n_draws, seed, nuisance)
@@ -327,7 +333,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         have_line = TIME_LINE.name in [c[0].name for c in chosen]
         line_X = None
         if not have_line:
-            f_obs = _line_frequency(t, _off_lines(r, lines, rows)[:, 0], rows)
+            f_obs = _line_frequency(t, r, rows, lines)
             line_X = line_at(f_obs)
             full = np.zeros((r.size, n_draws))
             full[rows] = Rn
@@ -433,12 +439,9 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
         for j in folds:
             fold = keep & (phase == j)
             fit = keep & ~fold
-            if X is None:
-                f_line = _line_frequency(t, _off_lines(r, lines, fit)[:, 0], fit)
-                X_fit = _off_lines(_sincos(t, f_line), lines, fit)
-            else:
-                X_fit = X
-            D = np.column_stack([JB, X_fit])
+            # the time line: its frequency searched, and its columns fitted off the lines, on each fold's fit
+            Xj = X if X is not None else _time_line(t, _line_frequency(t, r, fit, lines), lines, fit)
+            D = np.column_stack([JB, Xj])
             beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
             cv[fold] = (r - D @ beta)[fold]
         out.append((g, cv))

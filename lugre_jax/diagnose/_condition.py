@@ -228,6 +228,12 @@ def blended(cond: "Conditioning", blend: float, dt: float) -> "Conditioning":
     return dataclasses.replace(cond, accel_noise=noise, accel_noise_torque=cond.accel_noise_torque * scale)
 
 
+def _gain_over_derivative(h, dv: int, dt: float, f) -> np.ndarray:
+    """The filter ``h``'s gain at frequencies ``f`` [Hz] over the exact derivative of order
+    ``dv + 1`` (``h`` applied to a velocity, ``dv`` 0, or a position, ``dv`` 1)."""
+    return np.abs(freqz(h, worN=f, fs=1.0 / dt)[1]) / (2 * np.pi * f) ** (dv + 1)
+
+
 def accel_bandwidth(cond: "Conditioning", dt: float) -> float:
     """Bandwidth [Hz] of the conditioned acceleration: the lowest frequency at which the filter
     it is (:func:`_accel_filter`, blend included) passes less than 1/sqrt(2) of the true
@@ -238,7 +244,7 @@ def accel_bandwidth(cond: "Conditioning", dt: float) -> float:
         return 0.25 / dt
     h, dv = _accel_filter(cond, dt)
     f = np.linspace(0.0, 0.5 / dt, 8193)[1:]
-    gain = np.abs(freqz(h, worN=f, fs=1.0 / dt)[1]) / (2 * np.pi * f) ** (dv + 1)
+    gain = _gain_over_derivative(h, dv, dt, f)
     below = np.flatnonzero(gain < 1.0 / np.sqrt(2.0))
     return float(f[below[0]]) if below.size else 0.5 / dt
 
@@ -253,11 +259,9 @@ def accel_error(cond: "Conditioning", dt: float, f) -> np.ndarray:
     if cond.source == "recording":
         return np.zeros_like(f)
     dv = 0 if cond.source == "velocity" else 1
-    ideal = (2 * np.pi * f) ** (dv + 1)
     out = np.zeros_like(f)
     for W in ((cond.window, 2 * cond.window - 1) if cond.blend else (cond.window,)):
-        h = savgol_coeffs(W, cond.order, deriv=dv + 1, delta=dt)
-        G = np.abs(freqz(h, worN=f, fs=1.0 / dt)[1]) / ideal
+        G = _gain_over_derivative(savgol_coeffs(W, cond.order, deriv=dv + 1, delta=dt), dv, dt, f)
         out = np.maximum(out, np.abs(1.0 / np.maximum(G, 1e-12) - 1.0))
     return out
 

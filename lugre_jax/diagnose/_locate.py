@@ -333,12 +333,18 @@ def _power(t, R, oversample: int = 1):
     return np.fft.rfftfreq(m, float(np.median(np.diff(t))))[1:], (np.abs(X) ** 2 / n)[:, 1:]
 
 
-def _time_lines(t, R, half_window: int = 200):
-    f, I = _power(t, R)
-    bg, used = _local_background(I, half_window)
+def line_logp(I, bg, used):
+    """Each periodogram ordinate ``I`` over its median background ``bg`` (from ``used`` neighbours):
+    (ratio to the background's mean, log single-ordinate p-value ``-nu*log1p(ratio/nu)``, nu =
+    BACKGROUND_DOF times the neighbours used; :func:`time_periodogram`)."""
     ratio = I / np.maximum(bg / np.log(2), 1e-300)
     nu = BACKGROUND_DOF * used
-    logp = -nu * np.log1p(ratio / nu)
+    return ratio, -nu * np.log1p(ratio / nu)
+
+
+def _time_lines(t, R, half_window: int = 200):
+    f, I = _power(t, R)
+    ratio, logp = line_logp(I, *_local_background(I, half_window))
     # a line is a periodicity: at least MIN_PERIODS periods in the recording (slower structure is
     # the time windows' and the drift candidate's; at the lowest ordinates a red hump and a line
     # cannot be told apart by their neighbours)
