@@ -3,6 +3,7 @@ case, malformed recordings, the locator's statistics and the stiff bristle updat
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -406,3 +407,40 @@ def test_the_time_line_is_fitted_off_the_motions_lines():
     away = _sincos(t, freqs[-1] + 3.0 / t[-1])
     assert np.linalg.norm(_off_lines(at_line, lines, rows)) < 1e-3 * np.linalg.norm(at_line)
     assert np.linalg.norm(_off_lines(away, lines, rows)) > 0.9 * np.linalg.norm(away)
+
+
+def test_the_smoothing_bias_rule_reads_the_whole_models_torque():
+    """A velocity step from +0.05 to -0.05 deg/s in 30 ms, seen through a 57-sample window at
+    190 Hz (velocity only): the inertia's change from W to 2W-1 (J 0.1) stays below the rule's share, but a
+    friction that turns with the direction (Fc*tanh(v/0.01), Fc 1 N*m) changes by many times it
+    near the reversal. Those samples, and only those (within two windows of it), are unresolved."""
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose._condition import Conditioning, model_bias_unresolved
+    from lugre_jax.diagnose._model import Kinematics
+    from lugre_jax.io import recording_from_arrays
+
+    fs, W = 190.0, 57
+    t = np.arange(0.0, 20.0, 1 / fs)
+    v_true = 0.05 * np.sign(10.0 - t) * np.minimum(np.abs(t - 10.0) / 0.015, 1.0)
+    rng = np.random.default_rng(0)
+    vel = v_true + 0.004 * rng.standard_normal(t.size)
+    pos = np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * np.diff(t))])
+    rec = recording_from_arrays(time=t, torque=np.zeros_like(t), velocity=vel, position=pos)
+    from scipy.signal import savgol_filter
+
+    v = savgol_filter(vel, W, 3, delta=1 / fs)
+    a = savgol_filter(vel, W, 3, deriv=1, delta=1 / fs)
+    kin = Kinematics(jnp.asarray(t), jnp.asarray(pos), jnp.asarray(v), jnp.asarray(a), jnp.asarray(np.diff(t)),
+                     jnp.asarray(np.diff(pos)), jnp.asarray(1.0))
+    cond = Conditioning(torque_noise=0.05, velocity_noise=0.004, position_noise=0.0, quantisation=0.0,
+                        source="velocity", window=W, order=3, accel_noise_torque=0.0, velocity_noise_after=0.0)
+    J = 0.1
+    inertial = model_bias_unresolved(rec, cond, kin, lambda k: J * np.asarray(k.a))
+    friction = model_bias_unresolved(rec, cond, kin, lambda k: J * np.asarray(k.a) + np.tanh(np.asarray(k.v) / 0.01))
+    assert not inertial.any()
+    near = np.abs(t - 10.0) < 2 * W / fs
+    assert friction[near].sum() > 10 and not friction[~near].any(), (friction[near].sum(), friction[~near].sum())
+    # derivatives of a quantised position: the rule does not read them
+    enc = dataclasses.replace(cond, source="position", quantisation=0.001, position_noise=0.001 / np.sqrt(12.0))
+    assert not model_bias_unresolved(rec, enc, kin, lambda k: J * np.asarray(k.a) + np.tanh(np.asarray(k.v) / 0.01)).any()

@@ -475,6 +475,45 @@ def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 
     return savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=float(np.median(np.diff(np.asarray(t, float)))))
 
 
+def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict) -> np.ndarray:
+    """Samples where the whole model's torque changes by more than the resolved share when its
+    velocity and acceleration come from the window ``2W-1`` instead: the smoothing-bias rule of
+    :func:`condition` (a third of the change from W to 2W-1 above ``RESOLVED_BIAS_SHARE`` of the
+    torque noise, where the change is above three times its own noise; widened by the window),
+    with the model's torque in place of ``J0*a``. Near a slow reversal a smoothed velocity moves
+    the friction through its Stribeck slope and bristles by many times the noise, where ``J0*a``
+    barely changes. Not applied to the recording's own derivatives or to those of a quantised
+    position. ``predict``: the fitted model's torque along kinematics like ``kin``."""
+    import equinox as eqx
+    import jax.numpy as jnp
+    from scipy.ndimage import maximum_filter1d
+
+    # derivatives of a quantised position: the change from W to 2W-1 is then the steps' structured
+    # error as much as the window's bias (not white, so its noise bound does not hold), and the
+    # speeds an encoder does not resolve are already left out (:func:`condition`)
+    if cond.source == "recording" or (cond.source == "position" and cond.quantisation > 0):
+        return np.zeros(np.shape(kin.v), bool)
+    t = np.asarray(rec_in.time, float)
+    dt = float(np.median(np.diff(t)))
+    W, order = cond.window, cond.order
+    x, dv, sig = ((rec_in.velocity, 0, cond.velocity_noise) if cond.source == "velocity"
+                  else (rec_in.position, 1, cond.position_noise))
+    v2 = savgol_filter(x, 2 * W - 1, order, deriv=dv, delta=dt)
+    a2 = savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=dt)
+    kin2 = eqx.tree_at(lambda k: (k.v, k.a), kin, (jnp.asarray(v2), jnp.asarray(a2)))
+    bias_nm = np.abs(np.asarray(predict(kin)) - np.asarray(predict(kin2))) / 3.0
+
+    def change_noise(deriv):
+        h = np.pad(savgol_coeffs(W, order, deriv=deriv, delta=dt), (W - 1) // 2) \
+            - savgol_coeffs(2 * W - 1, order, deriv=deriv, delta=dt)
+        return sig * float(np.linalg.norm(h))
+
+    significant = (np.abs(np.asarray(kin.v) - v2) > 3.0 * change_noise(dv)) | \
+                  (np.abs(np.asarray(kin.a) - a2) > 3.0 * change_noise(dv + 1))
+    bad = (bias_nm > RESOLVED_BIAS_SHARE * cond.torque_noise) & significant
+    return maximum_filter1d(bad.astype(np.int8), W) > 0
+
+
 def perturbed_kinematics(rec_in, cond: "Conditioning", path: str, seed: int = 0):
     """One draw of the errors in variables: ``(synthetic, reference)``, each ``(v, a, bristle
     path)``, built from the measured signals exactly as the fit's kinematics are (``cond``'s source

@@ -226,7 +226,8 @@ class Floor:
 def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
     fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
-    from ._condition import blended, condition, conditioned_kinematics, forget_after, smoothing_blend
+    from ._condition import (blended, condition, conditioned_kinematics, forget_after, model_bias_unresolved,
+                             smoothing_blend)
 
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
@@ -308,6 +309,18 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
                                             fit_offset, params, noise=cond.torque_noise)
         info = {**info, **info_b}
+        path = list(paths)[k_path]
+        kin = paths[path]
+        info["bristle_path"] = path
+    # the smoothing-bias rule again, through the fitted model's whole torque (near slow reversals the
+    # friction's, not the inertia's): samples it adds leave the fit, which is repeated without them
+    smoothed = model_bias_unresolved(rec, cond, kin, lambda k_: M.predict(base, k_)) & ~unresolved
+    if np.any(smoothed):
+        unresolved = unresolved | smoothed
+        split = _split(crec, cond, unresolved, cfg)
+        base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
+                                            fit_offset, params, noise=cond.torque_noise)
+        info = {**info, **info_b, "model_bias_unresolved": int(smoothed.sum())}
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
