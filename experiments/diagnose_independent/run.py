@@ -2029,6 +2029,60 @@ def fresh26_settings():
     rows = _refreshed("fresh26", _F26_FS, _F26_VARIED, 16800)
     return [r for k, r in enumerate(rows) if k % 4 in (1, 2)]
 
+# calib27 and fresh27: after the smoothing-bias rule reads the fitted model's whole torque except on
+# a quantised position's derivatives; three plants no earlier set used
+LISSOM = T.Plant(J=0.16, Fc=0.74, Fs=1.12, vs=0.053, sigma2=1.22, sigma0=195.0, sigma1=1.2)
+SQUAT = T.Plant(J=0.33, Fc=1.52, Fs=1.98, vs=0.069, sigma2=1.62, sigma0=288.0, sigma1=2.45)
+RANGY = T.Plant(J=0.25, Fc=1.02, Fs=1.41, vs=0.059, sigma2=1.46, sigma0=245.0, sigma1=1.75)
+_add_plants({"lissom": (LISSOM, T.VelocityPIController(kp=6.2, ki=36.0)),
+             "squat": (SQUAT, T.VelocityPIController(kp=23.0, ki=138.0)),
+             "rangy": (RANGY, T.VelocityPIController(kp=14.5, ki=88.0))},
+            {"lissom": T.PositionPIDController.tuned(0.16, 3.0, tf=0.002),
+             "squat": T.PositionPIDController.tuned(0.33, 2.65, tf=0.005),
+             "rangy": T.PositionPIDController.tuned(0.25, 2.85, tf=0.003)})
+
+CALIB27_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.045, 0.15, 0.58, 1.65, 3.7), "dwell": 3.2 if i % 2 else 3.7,
+                            "transition": 0.33, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.55 * (i % 3), "f0": 0.049, "f1": 1.45, "duration": 38.5,
+                             "bias": 0.5 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.4 * (i % 2), "f0": 0.052, "f1": 1.15 + 0.3 * (i % 3),
+                            "n": 10 + 2 * (i % 2), "duration": 38.5},
+    "position_sine": lambda i: {"amplitude": 2.7 + 2.1 * (i % 3), "frequency": 0.15 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.4, -2.3, 1.7, -2.5, 2.3) if i % 2 else (-2.3, 2.7, -1.5, 2.5, -2.3, 1.3),
+                                 "move_time": 1.35 + 0.4 * (i % 2), "dwell": 2.55, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.052, 0.19, 0.66, 2.0, 3.7), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib27_settings(n: int = 30):
+    """A twenty-seventh effect-free set (issue #30), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    no earlier set used (LISSOM, SQUAT, RANGY), 205-870 Hz, torque noise 0.057-0.079 N*m, white in
+    half the rows and AR(1) of coefficient 0.5 or 0.65 in the other half, velocity noise
+    0.0032-0.005 deg/s, quantisation 0.0006-0.0012 deg; seeds 17000 + i."""
+    return _effect_free_set("calib27", CALIB27_EXCITATIONS, ["lissom", "squat", "rangy"],
+                            [(False, True), (True, True), (True, False)], [205.0, 610.0, 310.0, 870.0, 235.0],
+                            [0.057, 0.079, 0.064], [0.0, 0.5, 0.0, 0.65], [0.0032, 0.005], [0.0006, 0.0012],
+                            17000, n, loops=("pid", "pi"), nff=3, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F27_FS = {"a": 310.0, "b": 450.0, "c": 265.0, "d": 510.0, "e": 295.0, "f": 420.0, "g": 355.0, "h": 285.0,
+           "i": 385.0}
+_F27_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.6},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.04 * kw["period"], "phase": kw["phase"] + 1.7}}
+
+
+def fresh27_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's effect rows k
+    with k % 4 in (0, 3), half from each of fresh24's and fresh25's halves, at 265-510 Hz (by
+    recipe), seeds 17100 + k, with the gravity's phase, the asymmetry's sign and the ripple's period
+    and phase changed."""
+    rows = _refreshed("fresh27", _F27_FS, _F27_VARIED, 17100)
+    return [r for k, r in enumerate(rows) if k % 4 in (0, 3)]
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2053,6 +2107,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib24": calib24_settings, "fresh24": fresh24_settings,
             "calib25": calib25_settings, "fresh25": fresh25_settings,
             "calib26": calib26_settings, "fresh26": fresh26_settings,
+            "calib27": calib27_settings, "fresh27": fresh27_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2225,7 +2280,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
-               "calib26", "fresh26")
+               "calib26", "fresh26", "calib27", "fresh27")
 
 
 def main():
