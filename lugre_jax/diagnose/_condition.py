@@ -351,7 +351,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
                 continue
             aW = savgol_filter(x, W, order, deriv=dv + 1, delta=dt)
             a2 = savgol_filter(x, W2, order, deriv=dv + 1, delta=dt)
-            hd = np.pad(hW, (W - 1) // 2) - savgol_coeffs(W2, order, deriv=dv + 1, delta=dt)
+            hd = window_change(W, order, dv + 1, dt)
             # smoothing bias grows with the window (as W^(order+1) for a smooth signal, slower at
             # sharp steps and near the filter's cut-off): the bias at W is taken as a third of the
             # change from W to 2W-1, that change less its own noise (for either order: near the
@@ -468,6 +468,14 @@ def velocity_path(t, position, velocity) -> np.ndarray:
     return iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
 
 
+def window_change(W: int, order: int, deriv: int, dt: float) -> np.ndarray:
+    """Coefficients of the change of a Savitzky-Golay derivative (order ``deriv``) from the window
+    ``W`` to ``2W-1``: white noise of std ``sig`` on the input moves that change by
+    ``sig * ||h||``."""
+    return np.pad(savgol_coeffs(W, order, deriv=deriv, delta=dt), (W - 1) // 2) \
+        - savgol_coeffs(2 * W - 1, order, deriv=deriv, delta=dt)
+
+
 def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 3) -> np.ndarray:
     """The acceleration :func:`conditioned_kinematics` gives at the window ``2W-1`` (no blend, no
     bristle path): the reference the smoothing bias at ``W`` is measured against."""
@@ -499,14 +507,12 @@ def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict) -> np.ndar
     x, dv, sig = ((rec_in.velocity, 0, cond.velocity_noise) if cond.source == "velocity"
                   else (rec_in.position, 1, cond.position_noise))
     v2 = savgol_filter(x, 2 * W - 1, order, deriv=dv, delta=dt)
-    a2 = savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=dt)
+    a2 = wider_acceleration(t, rec_in.position, rec_in.velocity, cond.source, W, order)
     kin2 = eqx.tree_at(lambda k: (k.v, k.a), kin, (jnp.asarray(v2), jnp.asarray(a2)))
     bias_nm = np.abs(np.asarray(predict(kin)) - np.asarray(predict(kin2))) / 3.0
 
     def change_noise(deriv):
-        h = np.pad(savgol_coeffs(W, order, deriv=deriv, delta=dt), (W - 1) // 2) \
-            - savgol_coeffs(2 * W - 1, order, deriv=deriv, delta=dt)
-        return sig * float(np.linalg.norm(h))
+        return sig * float(np.linalg.norm(window_change(W, order, deriv, dt)))
 
     significant = (np.abs(np.asarray(kin.v) - v2) > 3.0 * change_noise(dv)) | \
                   (np.abs(np.asarray(kin.a) - a2) > 3.0 * change_noise(dv + 1))
