@@ -311,6 +311,11 @@ def test_a_compliance_is_plausible_up_to_the_accelerations_bandwidth():
     assert spring(4.91).implausible(ctx) is None
     why = spring(6.6).implausible(ctx)
     assert why is not None and "bandwidth 6.48 Hz" in why, why
+    # only the refusal above the bandwidth is the kinematics' resolution (the selection step then
+    # judges its other candidates with that structure in the model); an overdamped one is not
+    assert spring(6.6).beyond_resolution(ctx) and not spring(4.91).beyond_resolution(ctx)
+    damped = Compliance(jnp.asarray(4.91), jnp.asarray(0.8), jnp.asarray(0.06))
+    assert damped.implausible(ctx) is not None and not damped.beyond_resolution(ctx)
 
 
 def test_a_backlash_narrower_than_the_bristles_is_implausible():

@@ -159,6 +159,16 @@ def test_diagnose_fit_is_least_squares_on_the_joint_model():
     se4 = M.standard_errors(fitted, space, kin, tau, w, kappa=4.0)
     np.testing.assert_allclose([se4[n][1] for n in space.names], 2 * ref.standard_errors, rtol=1e-5)
 
+    # nuisance columns fitted alongside: one the data cannot tell from the inertia's torque leaves
+    # the inertia uninformed; one unrelated to the data (white, seeded) leaves value and error as
+    # they were, within its chance correlation (|r| ~ 1/sqrt(n) moves them by well under 5 %)
+    se_a = M.standard_errors(fitted, space, kin, tau, w, nuisance=np.asarray(kin.a))
+    assert se_a["J"][1] > 1e3 * se["J"][1]
+    white = np.random.default_rng(3).standard_normal(tau.size)
+    se_w = M.standard_errors(fitted, space, kin, tau, w, nuisance=white)
+    for n in space.names:
+        np.testing.assert_allclose(se_w[n], se[n], rtol=0.05)
+
     # Asymmetry's offset is a constant torque, as the baseline's offset is: only their sum is informed
     joint = eqx.tree_at(lambda m: m.candidates, fitted, (Asymmetry(0.0, 0.0),))
     scales = M.data_scales(rec)

@@ -154,6 +154,17 @@ class AbstractCandidate(eqx.Module):
         """Why the FITTED candidate is not physically plausible on this recording, or None."""
         return None
 
+    # True for a linear time-invariant response to the motion: at the motion's spectral lines it is
+    # confounded with a linear error of the conditioned kinematics (a filter's gain or delay), so it
+    # is identifiable only against that error's lines (:func:`._attribute.kinematic_lines`)
+    linear_in_motion: ClassVar[bool] = False
+
+    def beyond_resolution(self, ctx: Context) -> bool:
+        """Whether the FITTED candidate is implausible because its shape lies beyond what the
+        conditioned kinematics resolve: it then fits structure the smoothing leaves, which the
+        other candidates of the selection step must not be credited with either."""
+        return False
+
     @abc.abstractmethod
     def describe(self, ctx: Context) -> dict:
         """Parameters in plain units plus derived quantities (e.g. period, amplitude) for the report."""
@@ -471,23 +482,31 @@ SATURATED = 1e-4
 
 
 def standard_errors(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights,
-                    kappa: float = 1.0) -> dict[str, tuple[float, float]]:
+                    kappa: float = 1.0, nuisance=None) -> dict[str, tuple[float, float]]:
     """Each free parameter's value and standard error from the weighted least-squares Jacobian
     (:func:`lugre_jax._fit.covariance` on the training samples, noise variance from the residual
     times the long-run variance factor ``kappa``): name -> (value, se). Parameters at a bound, or
-    along a direction the data do not inform, get se = inf."""
+    along a direction the data do not inform, get se = inf. ``nuisance``: columns (n, m) fitted
+    alongside (one Gauss-Newton step from ``model``): each value is then what remains of it with
+    the nuisance fitted too, and its standard error counts the directions it shares with them."""
     tau = jnp.asarray(tau)
     w = jnp.asarray(weights, dtype=tau.dtype)
     u = space.to_u(model)
     Jm = np.asarray(_jac_u(u, space.paths, space.bounds, model, pad_kinematics(kin), pad(tau), pad(w),
                            jnp.asarray(1.0)))[: tau.shape[0]]
+    p = Jm.shape[1]
+    if nuisance is not None:
+        Jm = np.column_stack([Jm, np.asarray(w)[:, None] * np.asarray(nuisance, float).reshape(tau.shape[0], -1)])
     r = np.asarray(w) * (np.asarray(tau) - np.asarray(predict(model, kin)))
     train = np.asarray(weights) > 0
     c = _fit.covariance(Jm[train], r[train], variance_factor=kappa)
     # the covariance is in u; dx/du carries it to the parameters (the transform is elementwise)
     vals, dxdu = (np.asarray(a) for a in jax.jvp(space.bounds.to_box, (u,), (jnp.ones_like(u),)))
     with np.errstate(invalid="ignore"):
-        se = np.where(space.bounds.at_bounds(vals, SATURATED), np.inf, np.abs(dxdu) * c.standard_errors)
+        se = np.where(space.bounds.at_bounds(vals, SATURATED), np.inf, np.abs(dxdu) * c.standard_errors[:p])
+    if nuisance is not None:
+        du = np.linalg.lstsq(Jm[train], -r[train], rcond=None)[0][:p]
+        vals = np.asarray(space.bounds.to_box(u + jnp.asarray(du, dtype=u.dtype)))
     return {s.name: (float(v), float(e)) for s, v, e in zip(space.specs, vals, se)}
 
 

@@ -367,6 +367,7 @@ class Compliance(AbstractCandidate):
     J_load: jax.Array = cparam("T/A", 0.0, 5.0)
     id: ClassVar[str] = "compliance"
     searches_residual: ClassVar[bool] = True
+    linear_in_motion: ClassVar[bool] = True
     # the load inertia is the effect's size; a natural frequency has no "no effect" value
     key_params: ClassVar[dict] = {"J_load": 0.0}
 
@@ -382,6 +383,10 @@ class Compliance(AbstractCandidate):
         if float(self.zeta) > 0.5:
             return "damping ratio above 0.5: no ringing to tell a spring from a filter"
         return None
+
+    def beyond_resolution(self, ctx):
+        return float(self.fn) > ctx.accel_bandwidth_hz
+
     explanation: ClassVar[str] = (
         "The transmission is elastic: part of the inertia (J_load) sits behind a spring, so it lags the "
         "motor and rings at the natural frequency fn (damping ratio zeta) after every change of "

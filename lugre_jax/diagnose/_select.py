@@ -27,7 +27,7 @@ import numpy as np
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
-from ._attribute import motion_lines, rivals
+from ._attribute import kinematic_lines, motion_lines, rivals
 from ._calibrate import held_out_p, rejects
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
@@ -83,10 +83,12 @@ def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_phase, folds, m
     return out
 
 
-def _identifiability(model, space, kin, tau, w, kappa, cand) -> float:
-    """Largest |value - null| / standard error over the candidate's key parameters (joint fit)."""
+def _identifiability(model, space, kin, tau, w, kappa, cand, lines=None) -> float:
+    """Largest |value - null| / standard error over the candidate's key parameters (joint fit);
+    for a response linear in the motion, against the kinematic error's ``lines`` fitted alongside."""
     try:
-        se = M.standard_errors(model, space, kin, tau, w, kappa)
+        se = M.standard_errors(model, space, kin, tau, w, kappa,
+                               nuisance=lines if type(cand).linear_in_motion else None)
     except Exception:  # noqa: BLE001 - a failed Jacobian means "not shown identifiable"
         return 0.0
     z = 0.0
@@ -315,9 +317,17 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
     # the smoothing-bias rule again, through the fitted model's whole torque (near slow reversals the
     # friction's, not the inertia's): samples it adds leave the fit, which is repeated without them
     smoothed = model_bias_unresolved(rec, cond, kin, lambda k_: M.predict(base, k_)) & ~unresolved
+    split_smoothed = None
     if np.any(smoothed):
+        try:
+            split_smoothed = _split(crec, cond, unresolved | smoothed, cfg)
+        except ValueError:
+            # too few samples left to fit without them: the first fit stands (its floor then
+            # carries the bias, which shows as excess over it, not as a refusal)
+            pass
+    if split_smoothed is not None:
         unresolved = unresolved | smoothed
-        split = _split(crec, cond, unresolved, cfg)
+        split = split_smoothed
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
                                             fit_offset, params, noise=cond.torque_noise)
         info = {**info, **info_b, "model_bias_unresolved": int(smoothed.sum())}
@@ -563,12 +573,15 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
         order = np.argsort(-excess)
         significant = [int(i) for i in order if rejects(test.p_adjusted[i], cfg.alpha_name)][: cfg.top_k]
-        r_cur_cv = rivals_step = None
+        # the model the held-out test compares against: the current one, or the current one with a
+        # candidate refused as fitting beyond the kinematics' resolution (that structure is the
+        # smoothing's; a later candidate of the step is credited only with what it adds to it)
+        ref = {"model": current, "specs": specs_cur, "r": r_cur, "cv": None, "rivals": None, "with": None}
         trials = []
-        for i in significant:
-            name = test.names[i]
-            start = M.JointModel(current.J, current.friction, current.offset,
-                                 current.candidates + (test.best_guess[i],))
+        kin_lines = False  # the motion's lines a kinematic error explains, computed when first needed
+
+        def _fit_from(model, guess):
+            start = M.JointModel(model.J, model.friction, model.offset, model.candidates + (guess,))
             space = M.FitSpace(_all_specs(start, scales, fit_offset, freeze_baseline=frozen))
             start = M.clip_into(space, start)
             fitted, finfo = M.fit(start, space, kin, tau, w, max_steps=cfg.max_steps)
@@ -576,36 +589,57 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
             r_start = (tau - M.predict(start, kin)) * keep
             if not np.all(np.isfinite(r1)) or _sse(r1, w) > _sse(r_start, w):
                 fitted, r1 = start, r_start
+            return fitted, finfo, space, r1
+
+        for i in significant:
+            name = test.names[i]
+            fitted, finfo, space, r1 = _fit_from(current, test.best_guess[i])
             cand = fitted.candidates[-1]
-            why = cand.implausible(ctx.replace(baseline=fitted))
+            ctx_fit = ctx.replace(baseline=fitted)
+            why = cand.implausible(ctx_fit)
+            beyond = why is not None and cand.beyond_resolution(ctx_fit)
             kap1 = L.long_run_variance_factor(r1, split.blocks)
-            zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand)
+            if kin_lines is False:
+                kin_lines = kinematic_lines(current, kin, np.asarray(prep.rec.time, float), r_cur, w > 0,
+                                            prep.lines, prep.cond)
+            zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand, kin_lines)
             if why is None and not zmax >= cfg.identifiability_z:
                 why = (f"not identifiable on this excitation: its parameters are within "
                        f"{zmax:.2g} standard errors of no effect")
             cv_cur = cv1 = p_val = None
             riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
+            judged_with = ref["with"]
             v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
             if why is None:
-                if r_cur_cv is None:
-                    r_cur_cv = _cross_validated(current, specs_cur, kin, tau,
-                                                keep, split.blocks, split.phase, split.folds, cfg.max_steps)
-                r1_cv = _cross_validated(fitted, space.specs, kin, tau, keep, split.blocks, split.phase,
+                if judged_with is None:
+                    m_test, specs_test, r_test = fitted, space.specs, r1
+                else:
+                    m_test, _, space_n, r_test = _fit_from(ref["model"], test.best_guess[i])
+                    specs_test = space_n.specs
+                # the fixed phase: the model carried forward must lower it, and with the refused structure too
+                vn_cur, vn1 = _val_rmse(ref["r"], val), _val_rmse(r_test, val)
+                if ref["cv"] is None:
+                    ref["cv"] = _cross_validated(ref["model"], ref["specs"], kin, tau,
+                                                 keep, split.blocks, split.phase, split.folds, cfg.max_steps)
+                r_cur_cv = ref["cv"]
+                r1_cv = _cross_validated(m_test, specs_test, kin, tau, keep, split.blocks, split.phase,
                                          split.folds, cfg.max_steps)
                 cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
                 p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
                          if np.all(np.isfinite(r1_cv)) else 1.0)
-                if not (cv1 < cv_cur and v1 < v_cur and rejects(p_val, cfg.alpha_confirm)):
+                if not (cv1 < cv_cur and v1 < v_cur and vn1 < vn_cur and rejects(p_val, cfg.alpha_confirm)):
                     why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
                            f"{cv1:.4g}, p {p_val:.3g}; held-out phase {v_cur:.4g} -> {v1:.4g})")
             if why is None:
                 # physics outside the eight that the candidate partly absorbs: a library term
                 # predicts the held-out blocks significantly better than the candidate (one-sided,
                 # Bonferroni over the terms at the naming test's share of alpha)
-                if rivals_step is None:
-                    rivals_step = rivals(current, specs_cur, ctx, kin, keep, split.blocks, split.folds,
-                                         _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"],
-                                         motion=prep.lines, cond=prep.cond)
+                if ref["rivals"] is None:
+                    ctx_ref = ctx if judged_with is None else ctx.replace(baseline=ref["model"], residual=ref["r"])
+                    ref["rivals"] = rivals(ref["model"], ref["specs"], ctx_ref, kin, keep, split.blocks, split.folds,
+                                           _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"],
+                                           motion=prep.lines, cond=prep.cond)
+                rivals_step = ref["rivals"]
                 if rivals_step:
                     p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
                     best = int(np.argmin(p_under))
@@ -625,7 +659,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                            "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
                            "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
                            "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
-                           "identifiability_z": zmax, "rejected_because": why} | riv)
+                           "identifiability_z": zmax, "rejected_because": why,
+                           "held_out_with": judged_with} | riv)
+            if beyond and ref["with"] is None:
+                ref = {"model": fitted, "specs": space.specs, "r": r1, "cv": None, "rivals": None, "with": name}
             if why is None or p_val is not None:
                 # one held-out test per step (p_val is set once a candidate is held out): the first
                 # plausible, identifiable candidate's result is the step's, so the test's alpha
@@ -638,7 +675,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                                                          "validation_rmse_nm", "validation_rmse_before_nm",
                                                          "cv_rmse_nm", "cv_rmse_before_nm", "identifiability_z",
                                                          "rival", "cv_rmse_rival_nm", "p_rival",
-                                                         "rejected_because")} for t in trials]})
+                                                         "rejected_because", "held_out_with")} for t in trials]})
         ok = [t for t in trials if t["rejected_because"] is None]
         if not ok:
             break
