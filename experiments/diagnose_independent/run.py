@@ -2083,6 +2083,60 @@ def fresh27_settings():
     rows = _refreshed("fresh27", _F27_FS, _F27_VARIED, 17100)
     return [r for k, r in enumerate(rows) if k % 4 in (0, 3)]
 
+# calib28 and fresh28: after a compliance refused above the acceleration's bandwidth stays in the
+# model for the rest of its selection step, and a compliance is identifiable only against the
+# kinematic error's lines of the motion; three plants no earlier set used
+SINEWY = T.Plant(J=0.18, Fc=0.78, Fs=1.17, vs=0.056, sigma2=1.26, sigma0=205.0, sigma1=1.3)
+DUMPY = T.Plant(J=0.31, Fc=1.45, Fs=1.92, vs=0.067, sigma2=1.58, sigma0=280.0, sigma1=2.35)
+GAUNT = T.Plant(J=0.23, Fc=0.97, Fs=1.36, vs=0.061, sigma2=1.41, sigma0=238.0, sigma1=1.65)
+_add_plants({"sinewy": (SINEWY, T.VelocityPIController(kp=7.0, ki=40.0)),
+             "dumpy": (DUMPY, T.VelocityPIController(kp=21.5, ki=130.0)),
+             "gaunt": (GAUNT, T.VelocityPIController(kp=13.5, ki=82.0))},
+            {"sinewy": T.PositionPIDController.tuned(0.18, 3.0, tf=0.002),
+             "dumpy": T.PositionPIDController.tuned(0.31, 2.7, tf=0.005),
+             "gaunt": T.PositionPIDController.tuned(0.23, 2.9, tf=0.003)})
+
+CALIB28_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.047, 0.17, 0.6, 1.75, 3.55), "dwell": 3.3 if i % 2 else 3.9,
+                            "transition": 0.31, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.051, "f1": 1.55, "duration": 37.0,
+                             "bias": 0.6 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.45 * (i % 2), "f0": 0.05, "f1": 1.2 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 37.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.3 * (i % 3), "frequency": 0.16 + 0.04 * (i % 2),
+                                "duration": 33.5},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.5, 1.9, -2.4, 2.1) if i % 2 else (-2.4, 2.6, -1.7, 2.3, -2.5, 1.4),
+                                 "move_time": 1.25 + 0.45 * (i % 2), "dwell": 2.65, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.21, 0.64, 1.85, 3.9), "dwell": 2.45, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib28_settings(n: int = 30):
+    """A twenty-eighth effect-free set (issue #30), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    no earlier set used (SINEWY, DUMPY, GAUNT), 215-860 Hz, torque noise 0.059-0.077 N*m, white in
+    half the rows and AR(1) of coefficient 0.55 or 0.4 in the other half, velocity noise
+    0.0034-0.0049 deg/s, quantisation 0.0005-0.0010 deg; seeds 17200 + i."""
+    return _effect_free_set("calib28", CALIB28_EXCITATIONS, ["sinewy", "dumpy", "gaunt"],
+                            [(False, True), (True, True), (True, False)], [215.0, 620.0, 320.0, 860.0, 245.0],
+                            [0.059, 0.077, 0.066], [0.0, 0.55, 0.0, 0.4], [0.0034, 0.0049], [0.0005, 0.001],
+                            17200, n, loops=("pid", "pi"), nff=0, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F28_FS = {"a": 320.0, "b": 440.0, "c": 270.0, "d": 505.0, "e": 300.0, "f": 425.0, "g": 350.0, "h": 290.0,
+           "i": 390.0}
+_F28_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.9},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.97 * kw["period"], "phase": kw["phase"] + 2.3}}
+
+
+def fresh28_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's effect rows k
+    with k % 4 in (1, 2), at 270-505 Hz (by recipe), seeds 17300 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed."""
+    rows = _refreshed("fresh28", _F28_FS, _F28_VARIED, 17300)
+    return [r for k, r in enumerate(rows) if k % 4 in (1, 2)]
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2108,6 +2162,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib25": calib25_settings, "fresh25": fresh25_settings,
             "calib26": calib26_settings, "fresh26": fresh26_settings,
             "calib27": calib27_settings, "fresh27": fresh27_settings,
+            "calib28": calib28_settings, "fresh28": fresh28_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2280,7 +2335,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
-               "calib26", "fresh26", "calib27", "fresh27")
+               "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28")
 
 
 def main():
