@@ -227,6 +227,31 @@ def test_attribution_held_out_law_from_null_draws_holds_its_level_and_has_power(
     assert np.mean(p_sim <= 0.05) > np.mean(p_norm <= 0.05)
 
 
+def test_the_attributions_observed_held_out_statistic_is_the_null_draws_one():
+    """The recording's held-out statistic (_attribute._held_out) is the one held_out_gains computes
+    on every null draw, to rounding: the term against the model's own linearised refit. A residual
+    whose misfit lies along the model's columns (a model short of its optimum: here a slope the
+    base's linear column fits exactly) gives a term unrelated to it a gain inside the null's, not
+    the refit's (the misfit is 4x the noise)."""
+    from lugre_jax.diagnose._attribute import _held_out, held_out_gains
+
+    rng = np.random.default_rng(5)
+    n = 3000
+    t = np.arange(n) / 100.0
+    blocks = (t // 1.0).astype(int)
+    val = blocks % 5 == 2
+    rows = ~val
+    base = np.column_stack([np.ones(n), t - t.mean()])
+    X = rng.standard_normal((n, 1))
+    r = 0.4 * (t - t.mean()) / np.std(t) * 4.0 + rng.standard_normal(n)
+    new, d_obs, _, _, _ = _held_out(X, base, r, rows, val, blocks)
+    assert d_obs == pytest.approx(held_out_gains(base, X, r[None, :], rows, val)[0], rel=1e-9, abs=1e-9)
+    null = held_out_gains(base, X, rng.standard_normal((199, n)), rows, val)
+    assert np.mean(null >= d_obs) > 0.01
+    # against the unrefitted residual the same term would claim the slope's whole held-out share
+    assert np.sum(r[val] ** 2) - new ** 2 * val.sum() > 50 * np.max(null)
+
+
 def test_padded_compilation_leaves_every_sample_unchanged():
     """The inverse model evaluated on kinematics padded to the compile bucket equals the unpadded
     evaluation on the recording's own samples (to 1e-12 relative), with a drift candidate, whose

@@ -217,17 +217,20 @@ def _val_residual(D, E, rows, val):
     return E[:, val].T - D[val] @ (P @ E[:, rows].T)
 
 
-def _held_out(X, base, r, r_fit, rows, val, blocks):
+def _held_out(X, base, r, rows, val, blocks):
     """The term ``X`` fitted on the training ``rows`` with the ``base`` columns (the model's
-    linearised refit and the terms already in), predicted on the held-out ``val``: (held-out RMSE,
-    its statistic ``sum_val(r_fit^2 - (r - pred)^2)``, the analytic p, the prediction, the
-    coefficients)."""
+    linearised refit and the terms already in), predicted on the held-out ``val``, against ``base``
+    alone fitted so (``r0``): (held-out RMSE, its statistic ``sum_val(r0^2 - (r - pred)^2)``, the
+    statistic :func:`held_out_gains` computes on every null draw, the analytic p, the prediction,
+    the coefficients). A model short of its least-squares optimum thus credits no term with its
+    own refit's gain."""
     Xall = np.column_stack([base, X])
     beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
     pred = Xall @ beta
+    r0 = r - base @ np.linalg.lstsq(base[rows], r[rows], rcond=None)[0]
     new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
-    p_analytic = C.held_out_p(r_fit, r - pred, blocks, val)
-    d_obs = float(np.sum(r_fit[val] ** 2 - (r - pred)[val] ** 2))
+    p_analytic = C.held_out_p(r0, r - pred, blocks, val)
+    d_obs = float(np.sum(r0[val] ** 2 - (r - pred)[val] ** 2))
     return new, d_obs, p_analytic, pred, beta
 
 
@@ -321,7 +324,10 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     terms = []
     before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
     after = before
-    r_fit = r
+    # a term is compared on the held-out blocks with the model's own linearised refit (its Jacobian
+    # and nuisance columns fitted on the training rows), as on every null draw (_held_out)
+    r0 = r - JB @ np.linalg.lstsq(JB[rows], r[rows], rcond=None)[0]
+    compared = float(np.sqrt(np.mean(r0[val] ** 2))) if val.any() else float("nan")
     line_f = None
 
     def draw_chosen(d, cols):
@@ -375,7 +381,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         base = np.column_stack([JB] + [Xc for _, Xc in chosen])
         for k in sig[np.argsort(-excess[sig])]:
             g, X = cands[k]
-            new, d_obs, p_analytic, pred, beta = _held_out(X, base, r, r_fit, rows, val, blocks)
+            new, d_obs, p_analytic, pred, beta = _held_out(X, base, r, rows, val, blocks)
             # its law on the draws, each with its own columns (and, for the time line, its own line)
             d_null = np.empty(n_draws)
             for d in range(n_draws):
@@ -388,19 +394,18 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
                 p_held = max(p_held, p_analytic)
             # the term's held-out share must reach the resolution locate claims structure at
             # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves
-            share = float(np.sqrt(max(after ** 2 - new ** 2, 0.0)))
+            share = float(np.sqrt(max(compared ** 2 - new ** 2, 0.0)))
             least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
-            if new < after and C.rejects(p_held, alpha) and share >= least:
+            if new < min(after, compared) and C.rejects(p_held, alpha) and share >= least:
                 taken = int(k), g, X, new, p_held, p_analytic, pred, beta
                 break
             tests[-1].append({"rejected": g.name,
-                              "because": f"held-out RMSE {after:.4g} -> {new:.4g}, p {p_held:.3g} "
+                              "because": f"held-out RMSE {compared:.4g} -> {new:.4g}, p {p_held:.3g} "
                                          f"(analytic {p_analytic:.3g}), "
                                          f"share {share:.3g} (resolution {least:.3g})"})
         if taken is None:
             break
         k, g, X, new, p_held, p_analytic, pred, beta = taken
-        r_fit = r - pred
         chosen.append((g, X))
         chosen_i.append(idx[k])
         if idx[k] is None:
@@ -411,7 +416,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
                       "units": list(g.units), "reading": g.reading, "p_family": float(p_adj[k]),
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
                       "p_held_out_analytic": float(p_analytic)})
-        after = new
+        after = compared = new
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))
 
 
