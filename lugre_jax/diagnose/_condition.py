@@ -35,15 +35,25 @@ def hf_noise_std(x) -> float:
 OUTLIER_STD = 4.0
 
 
-def _third_difference_std(x, k: int, jumps=None) -> float:
-    d = x[:-3 * k] - 3 * x[k:-2 * k] + 3 * x[2 * k:-k] - x[3 * k:]
+def _third_difference(x, k: int) -> np.ndarray:
+    return x[:-3 * k] - 3 * x[k:-2 * k] + 3 * x[2 * k:-k] - x[3 * k:]
+
+
+def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0) -> float:
+    d = _third_difference(x, k)
+    ok = np.ones(d.size, bool)
     if jumps is not None:
         # leave out the differences whose span holds a jump of the signal (a step between
         # set-points): at long lags they would be a large share, past what the MAD ignores
         c = np.concatenate([[0], np.cumsum(jumps)])
-        ok = (c[3 * k + 1:] - c[:-3 * k - 1]) == 0
-        if ok.sum() >= max(10, d.size // 4):
-            d = d[ok]
+        ok &= (c[3 * k + 1:] - c[:-3 * k - 1]) == 0
+    if signal is not None:
+        # and those the signal (a model's prediction of it) reaches past ``limit``: at the long lags
+        # that show a colour, the signal's own rise where the motion changes fast is not the smooth
+        # k^6 law the fit allows for, and it reads as colour
+        ok &= np.abs(_third_difference(signal, k)) <= limit
+    if ok.sum() >= max(10, d.size // 4):
+        d = d[ok]
     # and those far out at this lag: a fast but resolved change of the signal (the friction torque
     # through a reversal, ~2*Fc within the pre-sliding distance) is no jump at lag 1 but spans a
     # share of the long lags that grows with k, as a colour's rise does: left in, it makes white
@@ -57,15 +67,18 @@ def _third_difference_std(x, k: int, jumps=None) -> float:
     return _mad_std(d) / np.sqrt(20.0)
 
 
-def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | None = 6.0):
+def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | None = 6.0, signal=None,
+                  limit: float = 0.0):
     """(lags, std, se): the third-difference noise estimate at lags of k samples
     (``x[i] - 3x[i+k] + 3x[i+2k] - x[i+3k]``, robust MAD; lags 1, 2, 3, 4, 6, 8, ... up to
     ``max_lag`` and a twelfth of a segment) and its standard error (spread over
     ``segments`` contiguous parts). White noise gives the same std at every lag; noise correlated
     over m samples (an averaged or low-passed sensor) is partly cancelled by the difference at lags
     below m, so the estimate rises to the noise's full std there; a smooth signal adds a part
-    growing as k^3."""
+    growing as k^3. ``signal``: a prediction of the signal in ``x``; the differences it reaches past
+    ``limit`` are left out (:func:`refined_torque_noise`)."""
     x = np.asarray(x, float)
+    sig = None if signal is None else np.asarray(signal, float)
     seg = x.size // segments
     # jumps: lag-1 third differences beyond jump_std robust std (the white part's), where the
     # signal steps (None: none are left out)
@@ -80,8 +93,9 @@ def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | No
         if k > max_lag or 3 * k > seg // 4:
             break
         lags.append(k)
-        sd.append(_third_difference_std(x, k, jumps))
-        parts = [_third_difference_std(x[i * seg:(i + 1) * seg], k, jumps[i * seg:(i + 1) * seg])
+        sd.append(_third_difference_std(x, k, jumps, sig, limit))
+        parts = [_third_difference_std(x[i * seg:(i + 1) * seg], k, jumps[i * seg:(i + 1) * seg],
+                                       None if sig is None else sig[i * seg:(i + 1) * seg], limit)
                  for i in range(segments)]
         se.append(float(np.std(parts, ddof=1)) / np.sqrt(segments))
     return np.array(lags, int), np.array(sd, float), np.array(se, float)
@@ -141,6 +155,19 @@ def noise_estimate_open(x, std: float, profile=None) -> bool:
     reaches, or the signal there; either way ``std`` may be only a lower bound of the noise."""
     _, prof, se = noise_profile(x) if profile is None else profile
     return bool(prof.size >= 3 and prof[-1] - 3.0 * se[-1] > 1.1 * std)
+
+
+def refined_torque_noise(torque, prediction, std: float) -> tuple[float, float, bool]:
+    """(std, phi, open) of :func:`torque_noise_std` and :func:`noise_estimate_open` again, with the
+    lag-k third differences left out where the fitted model's ``prediction`` of the torque has its
+    own lag-k third difference above ``RESOLVED_BIAS_SHARE`` of the noise's (``std``, the first
+    estimate): there the signal, not the noise, sets the difference. The profile's long lags, which
+    tell a colour, otherwise hold the motion's fast changes too (a coloured noise at a low rate,
+    where few lags span the correlation, reads high by that)."""
+    limit = RESOLVED_BIAS_SHARE * float(np.sqrt(20.0)) * std
+    profile = noise_profile(torque, signal=prediction, limit=limit)
+    st, phi = torque_noise_std(torque, profile=profile)
+    return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
 
 
 def quantisation_step(x) -> float:

@@ -3,8 +3,8 @@
 
 1. :func:`_prepare`: condition the kinematics from the data and fit the inverse LuGre joint model
    by Levenberg-Marquardt on the training blocks (:func:`_split`: every fifth time block held out);
-2. :func:`_floor`: the noise floor and the null model (torque noise and the kinematics' errors,
-   :mod:`._calibrate`);
+2. :func:`_noise` and :func:`_floor`: the torque noise again through the fitted model, the noise floor
+   and the null model (torque noise and the kinematics' errors, :mod:`._calibrate`);
 3. :func:`~._locate.locate`: residual tests, Holm-controlled at a third of alpha;
 4. :func:`_select`: greedy forward selection; at each step every candidate's first-order gain is
    tested against null draws simulated for this recording (min-P, a third of alpha); the most
@@ -432,6 +432,21 @@ def _predicted(prep: Prepared, split: Split, fit_offset) -> Split:
                                unpredicted=int(bad.sum()))
 
 
+def _noise(prep: Prepared) -> Prepared:
+    """``prep`` with the torque noise estimated again through the fitted model
+    (:func:`~._condition.refined_torque_noise`): the differences the model's torque sets are left out
+    of the noise profile, so the motion's fast changes no longer read as colour. The estimate made
+    before the fit (which chose the window and the bristle memory) is kept in ``info``."""
+    from ._condition import refined_torque_noise
+
+    c = prep.cond
+    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float),
+                                          np.asarray(M.predict(prep.base, prep.kin), float), c.torque_noise)
+    cond = dataclasses.replace(c, torque_noise=st, torque_noise_colour=phi, torque_noise_open=open_)
+    info = {**prep.info, "torque_noise_before_fit": {"std_nm": c.torque_noise, "colour": c.torque_noise_colour}}
+    return dataclasses.replace(prep, cond=cond, info=info)
+
+
 def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     """The floor of an inverse model: the torque noise and what the kinematics' noise brings through
     the fitted model (errors in variables), both from the data; and the null model that simulates
@@ -541,6 +556,35 @@ def _context(prep, split, floor, model, r, loc=None) -> M.Context:
                      accel_bandwidth_hz=accel_bandwidth(cond, prep.rec.dt))
 
 
+@dataclasses.dataclass
+class _Reference:
+    """What a step's held-out test compares a candidate with: the current model, or the current model
+    with a candidate refused as fitting beyond the kinematics' resolution (``refused``: its id; that
+    structure is the smoothing's, so a later candidate is credited only with what it adds to it).
+    Its cross-validated residual and the library's rival terms are computed once, when first needed."""
+
+    model: object
+    specs: list
+    r: np.ndarray
+    refused: str | None = None
+    _cv: np.ndarray | None = None
+    _rivals: list | None = None
+
+    def cross_validated(self, kin, tau, split, cfg) -> np.ndarray:
+        if self._cv is None:
+            self._cv = _cross_validated(self.model, self.specs, kin, tau, split.keep, split.blocks, split.phase,
+                                        split.folds, cfg.max_steps)
+        return self._cv
+
+    def library_rivals(self, ctx, kin, split, prep, floor) -> list:
+        if self._rivals is None:
+            ctx_ref = ctx if self.refused is None else ctx.replace(baseline=self.model, residual=self.r)
+            self._rivals = rivals(self.model, self.specs, ctx_ref, kin, split.keep, split.blocks, split.folds,
+                                  _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"],
+                                  motion=prep.lines, cond=prep.cond)
+        return self._rivals
+
+
 def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
@@ -576,9 +620,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
         # the model the held-out test compares against: the current one, or the current one with a
         # candidate refused as fitting beyond the kinematics' resolution (that structure is the
         # smoothing's; a later candidate of the step is credited only with what it adds to it)
-        ref = {"model": current, "specs": specs_cur, "r": r_cur, "cv": None, "rivals": None, "with": None}
+        ref = _Reference(current, specs_cur, r_cur)
         trials = []
-        kin_lines = False  # the motion's lines a kinematic error explains, computed when first needed
+        # the motion's lines a kinematic error explains: for a candidate linear in the motion, once a step
+        kin_lines, lines_known = None, False
 
         def _fit_from(model, guess):
             start = M.JointModel(model.J, model.friction, model.offset, model.candidates + (guess,))
@@ -599,29 +644,26 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
             why = cand.implausible(ctx_fit)
             beyond = why is not None and cand.beyond_resolution(ctx_fit)
             kap1 = L.long_run_variance_factor(r1, split.blocks)
-            if kin_lines is False:
-                kin_lines = kinematic_lines(current, kin, np.asarray(prep.rec.time, float), r_cur, w > 0,
-                                            prep.lines, prep.cond)
+            if not lines_known and type(cand).linear_in_motion:
+                kin_lines, lines_known = kinematic_lines(current, kin, np.asarray(prep.rec.time, float), r_cur,
+                                                         w > 0, prep.lines, prep.cond), True
             zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand, kin_lines)
             if why is None and not zmax >= cfg.identifiability_z:
                 why = (f"not identifiable on this excitation: its parameters are within "
                        f"{zmax:.2g} standard errors of no effect")
             cv_cur = cv1 = p_val = None
             riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
-            judged_with = ref["with"]
+            judged_with = ref.refused
             v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
             if why is None:
                 if judged_with is None:
                     m_test, specs_test, r_test = fitted, space.specs, r1
                 else:
-                    m_test, _, space_n, r_test = _fit_from(ref["model"], test.best_guess[i])
+                    m_test, _, space_n, r_test = _fit_from(ref.model, test.best_guess[i])
                     specs_test = space_n.specs
                 # the fixed phase: the model carried forward must lower it, and with the refused structure too
-                vn_cur, vn1 = _val_rmse(ref["r"], val), _val_rmse(r_test, val)
-                if ref["cv"] is None:
-                    ref["cv"] = _cross_validated(ref["model"], ref["specs"], kin, tau,
-                                                 keep, split.blocks, split.phase, split.folds, cfg.max_steps)
-                r_cur_cv = ref["cv"]
+                vn_cur, vn1 = _val_rmse(ref.r, val), _val_rmse(r_test, val)
+                r_cur_cv = ref.cross_validated(kin, tau, split, cfg)
                 r1_cv = _cross_validated(m_test, specs_test, kin, tau, keep, split.blocks, split.phase,
                                          split.folds, cfg.max_steps)
                 cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
@@ -634,12 +676,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                 # physics outside the eight that the candidate partly absorbs: a library term
                 # predicts the held-out blocks significantly better than the candidate (one-sided,
                 # Bonferroni over the terms at the naming test's share of alpha)
-                if ref["rivals"] is None:
-                    ctx_ref = ctx if judged_with is None else ctx.replace(baseline=ref["model"], residual=ref["r"])
-                    ref["rivals"] = rivals(ref["model"], ref["specs"], ctx_ref, kin, keep, split.blocks, split.folds,
-                                           _window(prep), _quantised_derivatives(prep.cond), floor.known["nuisance"],
-                                           motion=prep.lines, cond=prep.cond)
-                rivals_step = ref["rivals"]
+                rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
                 if rivals_step:
                     p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
                     best = int(np.argmin(p_under))
@@ -661,8 +698,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
                            "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
                            "identifiability_z": zmax, "rejected_because": why,
                            "held_out_with": judged_with} | riv)
-            if beyond and ref["with"] is None:
-                ref = {"model": fitted, "specs": space.specs, "r": r1, "cv": None, "rivals": None, "with": name}
+            if beyond and ref.refused is None:
+                ref = _Reference(fitted, space.specs, r1, refused=name)
             if why is None or p_val is not None:
                 # one held-out test per step (p_val is set once a candidate is held out): the first
                 # plausible, identifiable candidate's result is the step's, so the test's alpha
@@ -694,8 +731,8 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     (``to_json()``: the REPORT.json content; ``arrays``: residuals, models and tests behind it).
 
     The pipeline (docs/diagnosis.md): condition the kinematics and fit the baseline
-    (:func:`_prepare`), split training and held-out blocks (:func:`_split`), estimate the noise
-    floor and the null model (:func:`_floor`), locate residual structure (:func:`~._locate.locate`),
+    (:func:`_prepare`), split training and held-out blocks (:func:`_split`), estimate the torque noise
+    again through the fitted model (:func:`_noise`), the noise floor and the null model (:func:`_floor`), locate residual structure (:func:`~._locate.locate`),
     select candidates by the calibrated test (:func:`_select`), report.
 
     ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format).
@@ -710,6 +747,7 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     frozen = params is not None
     prep, split = _prepare(rec, cfg, params, friction, fit_offset)
     split = _predicted(prep, split, fit_offset)
+    prep = _noise(prep)
     floor = _floor(prep, split, cfg, fit_offset)
     flags = _filter_lags(prep)
     tau = np.asarray(prep.rec.torque)
