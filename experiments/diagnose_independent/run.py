@@ -2137,6 +2137,59 @@ def fresh28_settings():
     rows = _refreshed("fresh28", _F28_FS, _F28_VARIED, 17300)
     return [r for k, r in enumerate(rows) if k % 4 in (1, 2)]
 
+# calib29 and fresh29: after the torque noise is estimated again through the fitted baseline (the
+# differences the model's torque sets left out of the noise profile); three plants no earlier set used
+WILLOWY = T.Plant(J=0.2, Fc=0.84, Fs=1.24, vs=0.058, sigma2=1.31, sigma0=218.0, sigma1=1.45)
+SPINDLY = T.Plant(J=0.27, Fc=1.21, Fs=1.66, vs=0.064, sigma2=1.49, sigma0=256.0, sigma1=2.0)
+LEGGY = T.Plant(J=0.34, Fc=1.52, Fs=2.02, vs=0.07, sigma2=1.66, sigma0=292.0, sigma1=2.5)
+_add_plants({"willowy": (WILLOWY, T.VelocityPIController(kp=9.0, ki=52.0)),
+             "spindly": (SPINDLY, T.VelocityPIController(kp=16.5, ki=100.0)),
+             "leggy": (LEGGY, T.VelocityPIController(kp=24.0, ki=145.0))},
+            {"willowy": T.PositionPIDController.tuned(0.2, 2.95, tf=0.002),
+             "spindly": T.PositionPIDController.tuned(0.27, 2.8, tf=0.004),
+             "leggy": T.PositionPIDController.tuned(0.34, 2.65, tf=0.005)})
+
+CALIB29_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.043, 0.16, 0.62, 1.7, 3.65), "dwell": 3.4 if i % 2 else 3.8,
+                            "transition": 0.29, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.0 + 0.45 * (i % 3), "f0": 0.053, "f1": 1.5, "duration": 37.5,
+                             "bias": 0.55 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.5 * (i % 2), "f0": 0.048, "f1": 1.25 + 0.3 * (i % 3),
+                            "n": 10 + 2 * (i % 2), "duration": 37.5},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.2 * (i % 3), "frequency": 0.155 + 0.045 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.4, 1.8, -2.6, 2.0) if i % 2 else (-2.5, 2.5, -1.6, 2.4, -2.2, 1.5),
+                                 "move_time": 1.3 + 0.4 * (i % 2), "dwell": 2.6, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.048, 0.2, 0.63, 1.9, 3.8), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib29_settings(n: int = 30):
+    """A twenty-ninth effect-free set (issue #30), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    no earlier set used (WILLOWY, SPINDLY, LEGGY), 195-890 Hz, torque noise 0.061-0.075 N*m, white in
+    half the rows and AR(1) of coefficient 0.6 or 0.7 in the other half, velocity noise
+    0.0036-0.0047 deg/s, quantisation 0.0007-0.0011 deg; seeds 17400 + i."""
+    return _effect_free_set("calib29", CALIB29_EXCITATIONS, ["willowy", "spindly", "leggy"],
+                            [(False, True), (True, True), (True, False)], [195.0, 640.0, 305.0, 890.0, 225.0],
+                            [0.061, 0.075, 0.068], [0.0, 0.6, 0.0, 0.7], [0.0036, 0.0047], [0.0007, 0.0011],
+                            17400, n, loops=("pid", "pi"), nff=2, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_F29_FS = {"a": 300.0, "b": 455.0, "c": 260.0, "d": 495.0, "e": 310.0, "f": 415.0, "g": 345.0, "h": 280.0,
+           "i": 395.0}
+_F29_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.3},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.03 * kw["period"], "phase": kw["phase"] - 1.1}}
+
+
+def fresh29_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 260-495 Hz (by recipe), seeds 17500 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh29", _F29_FS, _F29_VARIED, 17500)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2163,6 +2216,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib26": calib26_settings, "fresh26": fresh26_settings,
             "calib27": calib27_settings, "fresh27": fresh27_settings,
             "calib28": calib28_settings, "fresh28": fresh28_settings,
+            "calib29": calib29_settings, "fresh29": fresh29_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2335,7 +2389,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside6", "fresh17", "outside7", "calib16", "calib17", "fresh18", "calib18",
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
-               "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28")
+               "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29")
 
 
 def main():
