@@ -22,6 +22,17 @@ from lugre_jax import testing as T
 from lugre_jax.diagnose import DiagnoseConfig, diagnose
 
 
+def _commit() -> str | None:
+    """The checkout's commit, so that a figure names the code it measured (None outside git)."""
+    import subprocess
+
+    try:
+        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                              check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return None
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="benchmarks/diagnose_cost.json")
@@ -44,6 +55,7 @@ def main() -> None:
         print(f"{label}: {s:.1f} s, verdict {rep.verdict}", flush=True)
     out = {"samples": int(rec.n), "generation_s": gen_s, "runs": rows,
            "seconds_per_null_draw": (rows[1]["seconds"] - rows[2]["seconds"]) / (d - 60),
+           "commit": _commit(),
            "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "load": os.getloadavg()}}
     with open(a.out, "w") as fh:
         json.dump(out, fh, indent=2)
