@@ -449,3 +449,17 @@ def test_the_smoothing_bias_rule_reads_the_whole_models_torque():
     # derivatives of a quantised position: the rule does not read them
     enc = dataclasses.replace(cond, source="position", quantisation=0.001, position_noise=0.001 / np.sqrt(12.0))
     assert not model_bias_unresolved(rec, enc, kin, lambda k: J * np.asarray(k.a) + np.tanh(np.asarray(k.v) / 0.01)).any()
+
+
+def test_a_term_reading_follows_its_coefficients_sign():
+    """v|v| with a negative coefficient is not drag: the reading says the friction grows slower than
+    linearly with speed (TRO2021 driveNo1's term); one-column groups without a signed reading, and
+    two-column ones, keep theirs."""
+    from lugre_jax.diagnose._attribute import TIME_LINE, TermGroup
+
+    g = TermGroup("velocity_squared", ("v*|v|",), ("N*m*s^2/deg^2",), "grows with v|v|: drag",
+                  "falls with v|v|: slower than linear")
+    assert g.read([2e-8]) == "grows with v|v|: drag"
+    assert g.read([-2e-8]) == "falls with v|v|: slower than linear"
+    assert TermGroup("time", ("t",), ("N*m/s",), "drifts").read([-1.0]) == "drifts"
+    assert TIME_LINE.read([-1.0, -1.0]) == TIME_LINE.reading

@@ -69,13 +69,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default="../shared/data")
     ap.add_argument("--out", default=str(Path(__file__).resolve().with_name("results") / "tro2021"))
+    ap.add_argument("--drives", default="driveNo1,driveNo3", help="comma-separated drive folders")
     a = ap.parse_args()
     root = Path(a.data) / "tro2021"
     if not root.exists():
         print(f"TRO2021 data not found at {root}; skipping (pass --data)")
         return 0
     out = Path(a.out)
-    for drive in ("driveNo1", "driveNo3"):
+    for drive in a.drives.split(","):
         folder = root / drive / "steady_state" / "0.096kg"
         rec, names = chained(folder)
         rep = diagnose(rec, friction="stribeck", fit_offset=True, progress=False, block_s=25.6)

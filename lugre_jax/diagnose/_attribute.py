@@ -27,12 +27,21 @@ from ._locate import RESOLUTION
 
 @dataclasses.dataclass(frozen=True)
 class TermGroup:
-    """One dependence: ``name``, the columns' ``labels`` and ``units``, the ``reading``."""
+    """One dependence: ``name``, the columns' ``labels`` and ``units``, the ``reading``; for a
+    one-column group whose physics depends on the sign, ``reading_negative`` where its coefficient is
+    negative (:meth:`read`)."""
 
     name: str
     labels: tuple
     units: tuple
     reading: str
+    reading_negative: str = ""
+
+    def read(self, coef) -> str:
+        """The reading that the fitted coefficients' sign supports."""
+        if self.reading_negative and len(coef) == 1 and float(coef[0]) < 0:
+            return self.reading_negative
+        return self.reading
 
 
 def _smooth_derivative(x, t, window: int):
@@ -60,9 +69,12 @@ def library(ctx, kin, model_torque, window: int) -> list[tuple[TermGroup, np.nda
         (TermGroup("torque_rate", ("d(tau_model)/dt",), (f"{tu}",),
                    "follows the torque's rate: actuator dynamics (a current loop's lag) or a delay"), tau_rate[:, None]),
         (TermGroup("velocity_squared", ("v*|v|",), (f"{T}*{tu}^2/{pu}^2",),
-                   "grows with v|v|: fluid or windage drag"), (v * np.abs(v))[:, None]),
+                   "grows with v|v|: fluid or windage drag",
+                   "falls with v|v|: friction growing slower than linearly with speed (a viscous part that "
+                   "saturates)"), (v * np.abs(v))[:, None]),
         (TermGroup("transmitted_torque", ("|tau_model|*sign(v)",), ("1",),
-                   "grows with the transmitted torque: load-dependent (mesh, screw) friction"),
+                   "grows with the transmitted torque: load-dependent (mesh, screw) friction",
+                   "falls with the transmitted torque: friction that lessens under load"),
          (np.abs(model_torque) * np.tanh(v / (0.01 * V)))[:, None]),
         (TermGroup("jerk", ("jerk",), (f"{T}*{tu}^3/{pu}",),
                    "follows the jerk: a compliant transmission or an unmodelled resonance"), jerk[:, None]),
@@ -413,7 +425,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         nb_cols = JB.shape[1]
         coef = beta[nb_cols + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
-                      "units": list(g.units), "reading": g.reading, "p_family": float(p_adj[k]),
+                      "units": list(g.units), "reading": g.read(coef), "p_family": float(p_adj[k]),
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
                       "p_held_out_analytic": float(p_analytic)})
         after = compared = new
