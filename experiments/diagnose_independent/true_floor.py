@@ -6,6 +6,7 @@ one line per recording to <out>/true_floor_<study>.jsonl and prints the floor ag
 against the true torque noise.
 
     python experiments/diagnose_independent/true_floor.py --study calib3 --shard 0/2   # and 1/2
+    python experiments/diagnose_independent/true_floor.py --study calib29 --only calib29_09_position_sine_pi
 """
 
 from __future__ import annotations
@@ -20,16 +21,20 @@ from lugre_jax.diagnose import diagnose
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=("calib2", "calib3"), required=True)
+    ap.add_argument("--study", choices=sorted(R.SETTINGS), required=True)
     ap.add_argument("--shard", default="0/1", help="i/n: every n-th recording starting at i")
+    ap.add_argument("--only", default="", help="comma-separated keys (default: every effect-free recording)")
+    ap.add_argument("--cache", default=None, help="generated-recording cache (default <results>/<study>/cache)")
     a = ap.parse_args()
     i, n = (int(x) for x in a.shard.split("/"))
     out = Path(__file__).resolve().with_name("results") / a.study
+    out.mkdir(parents=True, exist_ok=True)
     path = out / f"true_floor_{a.study}.jsonl"
     done = {json.loads(line)["key"] for line in path.read_text().splitlines()} if path.exists() else set()
-    jobs = [j for k, j in enumerate(R.jobs(a.study, [11], [1.0])) if k % n == i and j["key"] not in done]
+    jobs = [j for k, j in enumerate(R.jobs(a.study, [11], [1.0])) if k % n == i and j["key"] not in done
+            and j.get("expected", "none") == "none" and (not a.only or j["key"] in a.only.split(","))]
     for job in jobs:
-        g, _ = R.generated(job, out / "cache")
+        g, _ = R.generated(job, Path(a.cache) if a.cache else out / "cache")
         plant, _ = R.controller_of(job)
         params = {k: float(getattr(plant, k)) for k in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
         rep = diagnose(g.to_recording(), params=params | {"offset": 0.0, "friction_model": "LuGre"},
