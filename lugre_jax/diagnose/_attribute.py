@@ -8,10 +8,10 @@ same simulated null as the candidates (:mod:`._calibrate`; the time line's frequ
 repeated on every draw), family-wise by min-P at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
 held-out RMSE significantly (its held-out gain against the same gain on every null draw,
-:func:`held_out_gains`) by a share
-``sqrt(before^2 - after^2)`` of at least RESOLUTION (0.15) of the per-sample noise floor, the
-resolution at which locate claims structure. The terms are linear in their coefficients, so the
-first-order gain is the exact least-squares gain.
+:func:`held_out_gains`, at the same share of alpha). Both decisions are tests with a stated error
+rate; there is no margin on the size of the gain (the term's held-out share
+``sqrt(before^2 - after^2)`` is reported beside it). The terms are linear in their coefficients, so
+the first-order gain is the exact least-squares gain.
 """
 
 from __future__ import annotations
@@ -22,7 +22,6 @@ import numpy as np
 
 from . import _calibrate as C
 from . import _model as M
-from ._locate import RESOLUTION
 
 
 @dataclasses.dataclass(frozen=True)
@@ -404,20 +403,17 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             p_held = float((1.0 + np.sum(d_null >= d_obs)) / (n_draws + 1.0))
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
-            # the term's held-out share must reach the resolution locate claims structure at
-            # (RESOLUTION of the per-sample noise floor): below it a term fits what no test resolves
+            # what the term removes from the held-out error, per sample (reported, not a criterion)
             share = float(np.sqrt(max(compared ** 2 - new ** 2, 0.0)))
-            least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
-            if new < min(after, compared) and C.rejects(p_held, alpha) and share >= least:
-                taken = int(k), g, X, new, p_held, p_analytic, pred, beta
+            if new < min(after, compared) and C.rejects(p_held, alpha):
+                taken = int(k), g, X, new, p_held, p_analytic, pred, beta, share
                 break
             tests[-1].append({"rejected": g.name,
                               "because": f"held-out RMSE {compared:.4g} -> {new:.4g}, p {p_held:.3g} "
-                                         f"(analytic {p_analytic:.3g}), "
-                                         f"share {share:.3g} (resolution {least:.3g})"})
+                                         f"(analytic {p_analytic:.3g}), share {share:.3g}"})
         if taken is None:
             break
-        k, g, X, new, p_held, p_analytic, pred, beta = taken
+        k, g, X, new, p_held, p_analytic, pred, beta, share = taken
         chosen.append((g, X))
         chosen_i.append(idx[k])
         if idx[k] is None:
@@ -427,7 +423,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
                       "units": list(g.units), "reading": g.read(coef), "p_family": float(p_adj[k]),
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
-                      "p_held_out_analytic": float(p_analytic)})
+                      "p_held_out_analytic": float(p_analytic), "held_out_share_nm": share})
         after = compared = new
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))
 

@@ -157,17 +157,25 @@ def noise_estimate_open(x, std: float, profile=None) -> bool:
     return bool(prof.size >= 3 and prof[-1] - 3.0 * se[-1] > 1.1 * std)
 
 
-def refined_torque_noise(torque, prediction, std: float) -> tuple[float, float, bool]:
-    """(std, phi, open) of :func:`torque_noise_std` and :func:`noise_estimate_open` again, with the
-    lag-k third differences left out where the fitted model's ``prediction`` of the torque has its
-    own lag-k third difference above ``RESOLVED_BIAS_SHARE`` of the noise's (``std``, the first
-    estimate): there the signal, not the noise, sets the difference. The profile's long lags, which
-    tell a colour, otherwise hold the motion's fast changes too (a coloured noise at a low rate,
-    where few lags span the correlation, reads high by that)."""
-    limit = RESOLVED_BIAS_SHARE * float(np.sqrt(20.0)) * std
-    profile = noise_profile(torque, signal=prediction, limit=limit)
+def torque_noise_model(torque, profile=None) -> tuple[float, float, bool]:
+    """(std, phi, open) of the torque channel from its :func:`noise_profile` (computed when not
+    given): :func:`torque_noise_std`, and :func:`noise_estimate_open` only where colour was claimed
+    (a white estimate is read at lag 1, where the signal is absent, and the longest lags of a white
+    recording hold the signal, so the flag would fire on white noise too)."""
+    profile = noise_profile(torque) if profile is None else profile
     st, phi = torque_noise_std(torque, profile=profile)
     return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
+
+
+def refined_torque_noise(torque, prediction, std: float) -> tuple[float, float, bool]:
+    """:func:`torque_noise_model` again, with the lag-k third differences left out where the fitted
+    model's ``prediction`` of the torque has its own lag-k third difference above
+    ``RESOLVED_BIAS_SHARE`` of the noise's (``std``, the first estimate): there the signal, not the
+    noise, sets the difference. The profile's long lags, which tell a colour, otherwise hold the
+    motion's fast changes too (a coloured noise at a low rate, where few lags span the correlation,
+    reads high by that)."""
+    limit = RESOLVED_BIAS_SHARE * float(np.sqrt(20.0)) * std
+    return torque_noise_model(torque, noise_profile(torque, signal=prediction, limit=limit))
 
 
 def quantisation_step(x) -> float:
@@ -346,12 +354,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     dt = float(np.median(np.diff(t)))
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
-    profile = noise_profile(rec.torque)
-    st, st_phi = torque_noise_std(rec.torque, profile=profile)
-    # only where colour was claimed: a white estimate is read at lag 1, where the signal is absent,
-    # and the longest lags of a white recording hold the signal, so the flag would fire on white
-    # noise too
-    st_open = st_phi > 0 and noise_estimate_open(rec.torque, st, profile)
+    st, st_phi, st_open = torque_noise_model(rec.torque)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0

@@ -432,7 +432,7 @@ def _predicted(prep: Prepared, split: Split, fit_offset) -> Split:
                                unpredicted=int(bad.sum()))
 
 
-def _noise(prep: Prepared) -> Prepared:
+def _noise(prep: Prepared, prediction: np.ndarray) -> Prepared:
     """``prep`` with the torque noise estimated again through the fitted model
     (:func:`~._condition.refined_torque_noise`): the differences the model's torque sets are left out
     of the noise profile, so the motion's fast changes no longer read as colour. The estimate made
@@ -440,17 +440,16 @@ def _noise(prep: Prepared) -> Prepared:
     from ._condition import refined_torque_noise
 
     c = prep.cond
-    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float),
-                                          np.asarray(M.predict(prep.base, prep.kin), float), c.torque_noise)
+    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise)
     cond = dataclasses.replace(c, torque_noise=st, torque_noise_colour=phi, torque_noise_open=open_)
     info = {**prep.info, "torque_noise_before_fit": {"std_nm": c.torque_noise, "colour": c.torque_noise_colour}}
     return dataclasses.replace(prep, cond=cond, info=info)
 
 
-def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
+def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Floor:
     """The floor of an inverse model: the torque noise and what the kinematics' noise brings through
     the fitted model (errors in variables), both from the data; and the null model that simulates
-    them."""
+    them. ``r0``: the baseline's residual on the kept samples."""
     from ._calibrate import centred_draws, null_model
 
     rec, cond, base, kin = prep.rec, prep.cond, prep.base, prep.kin
@@ -480,7 +479,6 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset) -> Floor:
     # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
     # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
     # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
-    r0 = (np.asarray(rec.torque) - M.predict(base, kin)) * split.keep
     n_val = max(int(split.val.sum()), 1)
     kappa0 = L.long_run_variance_factor(r0, split.blocks)
     held = _val_rmse(r0, split.val) * (1.0 + 2.0 / np.sqrt(2.0 * n_val / max(kappa0, 1.0)))
@@ -585,7 +583,7 @@ class _Reference:
         return self._rivals
 
 
-def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
+def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, r0):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
     are refitted jointly with the current model, and the first that is plausible and identifiable is
@@ -600,8 +598,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress):
     tau = np.asarray(prep.rec.torque)
     kin, w, keep, val = prep.kin, split.w, split.keep, split.val
     scales = floor.scales
-    current = prep.base
-    r_cur = (tau - M.predict(current, kin)) * keep
+    current, r_cur = prep.base, r0
     accepted, log = [], []
     bar = tqdm(total=cfg.max_effects, desc="select", disable=not progress, leave=False)
     while len(accepted) < cfg.max_effects:
@@ -747,14 +744,13 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     frozen = params is not None
     prep, split = _prepare(rec, cfg, params, friction, fit_offset)
     split = _predicted(prep, split, fit_offset)
-    prep = _noise(prep)
-    floor = _floor(prep, split, cfg, fit_offset)
+    prediction = np.asarray(M.predict(prep.base, prep.kin), float)
+    r0 = (np.asarray(prep.rec.torque) - prediction) * split.keep
+    prep = _noise(prep, prediction)
+    floor = _floor(prep, split, cfg, fit_offset, r0)
     flags = _filter_lags(prep)
-    tau = np.asarray(prep.rec.torque)
-    base, kin = prep.base, prep.kin
-    r0 = (tau - M.predict(base, kin)) * split.keep
-    loc0 = _locate(prep, split, floor, cfg, base, r0, flags, floor.ratio <= cfg.at_floor)
-    current, r_cur, accepted, log = _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress)
+    loc0 = _locate(prep, split, floor, cfg, prep.base, r0, flags, floor.ratio <= cfg.at_floor)
+    current, r_cur, accepted, log = _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, r0)
     loc_cur = (_locate(prep, split, floor, cfg, current, r_cur, flags,
                        _val_rmse(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
     attribution = _attribute(prep, split, floor, cfg, current, r_cur, fit_offset, frozen)
