@@ -2,8 +2,8 @@
 diagnosed with the generator's own plant as the baseline (``params=``, no fit), so the baseline's
 held-out RMSE is the true model's through the tool's own conditioning; that is the floor a complete
 model can reach (torque noise plus the kinematics' errors carried through the true model). Writes
-one line per recording to <out>/true_floor_<study>.jsonl and prints the floor against it and
-against the true torque noise.
+one line per recording to <out>/true_floor_<study>.jsonl (with the verdict and the attribution the
+true model's residual gets) and prints the floor against it and against the true torque noise.
 
     python experiments/diagnose_independent/true_floor.py --study calib3 --shard 0/2   # and 1/2
     python experiments/diagnose_independent/true_floor.py --study calib29 --only calib29_09_position_sine_pi
@@ -42,11 +42,13 @@ def main() -> None:
         b = rep.baseline
         row = {"key": job["key"], "true_torque_noise": g.torque_noise_std,
                "true_model_validation_rmse": b.validation_rmse_nm, "noise_floor": b.noise_floor_nm,
-               "torque_noise_estimate": b.torque_noise_nm, "kinematic_noise": b.kinematic_noise_nm}
+               "torque_noise_estimate": b.torque_noise_nm, "kinematic_noise": b.kinematic_noise_nm,
+               "verdict": rep.verdict, "attribution": rep.attribution}
         with open(path, "a") as fh:
             fh.write(json.dumps(row) + "\n")
         print(f"{job['key']}: floor / true-model held-out RMSE {b.noise_floor_nm / b.validation_rmse_nm:.3f}, "
-              f"floor / true torque noise {b.noise_floor_nm / g.torque_noise_std:.3f}", flush=True)
+              f"floor / true torque noise {b.noise_floor_nm / g.torque_noise_std:.3f}, verdict {rep.verdict}",
+              flush=True)
 
 
 if __name__ == "__main__":
