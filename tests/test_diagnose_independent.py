@@ -83,6 +83,7 @@ def test_torque_noise_through_a_prediction_leaves_the_signal_out():
     and so is the diagnosis's own estimate through its fitted baseline (the pipeline's _noise
     stage), while the estimate made before the fit stays high."""
     from lugre_jax.diagnose import DiagnoseConfig
+    from lugre_jax.diagnose import _model as M
     from lugre_jax.diagnose import _select as S
     from lugre_jax.diagnose._condition import refined_torque_noise, torque_noise_std
 
@@ -94,7 +95,7 @@ def test_torque_noise_through_a_prediction_leaves_the_signal_out():
     assert abs(s1 / true - 1) < 0.07 and phi > 0.4
     prep, _ = S._prepare(g.to_recording(), DiagnoseConfig(), None, "lugre", False)
     assert prep.cond.torque_noise > 1.15 * true
-    refined = S._noise(prep)
+    refined = S._noise(prep, np.asarray(M.predict(prep.base, prep.kin), float))
     assert abs(refined.cond.torque_noise / true - 1) < 0.07
     assert refined.info["torque_noise_before_fit"]["std_nm"] == prep.cond.torque_noise
 
