@@ -2190,8 +2190,9 @@ def fresh29_settings():
     return _refreshed("fresh29", _F29_FS, _F29_VARIED, 17500)
 
 
-# calib30 and outside9: the attribution decided by its calibrated tests alone (no margin on the
-# size of a term's held-out gain); three plants no earlier set used
+# calib30 and outside9: first run on 2c7cded, whose attribution decided by its calibrated tests alone
+# (no margin on the size of a term's held-out gain; the margin is back since 5722a70); three plants no
+# earlier set used
 WISPY = T.Plant(J=0.17, Fc=0.78, Fs=1.12, vs=0.052, sigma2=1.22, sigma0=204.0, sigma1=1.3)
 REEDY = T.Plant(J=0.24, Fc=1.08, Fs=1.47, vs=0.061, sigma2=1.43, sigma0=241.0, sigma1=1.8)
 PLUMP = T.Plant(J=0.37, Fc=1.63, Fs=2.18, vs=0.073, sigma2=1.74, sigma0=305.0, sigma1=2.7)
