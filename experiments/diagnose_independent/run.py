@@ -2260,6 +2260,59 @@ def outside9_settings():
     return _outside_set("outside9_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT9_RECIPES, 17900)
 
 
+# calib31 and fresh30: the design of 5722a70 (the attribution's margin back), unchanged since; three
+# plants no earlier set used
+BONY = T.Plant(J=0.19, Fc=0.88, Fs=1.29, vs=0.056, sigma2=1.27, sigma0=212.0, sigma1=1.4)
+GAWKY = T.Plant(J=0.26, Fc=1.15, Fs=1.58, vs=0.066, sigma2=1.52, sigma0=249.0, sigma1=1.95)
+CHUBBY = T.Plant(J=0.35, Fc=1.57, Fs=2.09, vs=0.069, sigma2=1.69, sigma0=298.0, sigma1=2.55)
+_add_plants({"bony": (BONY, T.VelocityPIController(kp=8.5, ki=49.0)),
+             "gawky": (GAWKY, T.VelocityPIController(kp=15.5, ki=94.0)),
+             "chubby": (CHUBBY, T.VelocityPIController(kp=25.0, ki=150.0))},
+            {"bony": T.PositionPIDController.tuned(0.19, 2.9, tf=0.002),
+             "gawky": T.PositionPIDController.tuned(0.26, 2.75, tf=0.004),
+             "chubby": T.PositionPIDController.tuned(0.35, 2.7, tf=0.005)})
+
+CALIB31_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.041, 0.15, 0.59, 1.65, 3.5), "dwell": 3.2 if i % 2 else 3.6,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.55 * (i % 3), "f0": 0.052, "f1": 1.45, "duration": 38.0,
+                             "bias": 0.45 + 0.4 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.05 + 0.5 * (i % 2), "f0": 0.047, "f1": 1.1 + 0.35 * (i % 3),
+                            "n": 12 + 2 * (i % 2), "duration": 38.0},
+    "position_sine": lambda i: {"amplitude": 2.3 + 2.4 * (i % 3), "frequency": 0.15 + 0.05 * (i % 2),
+                                "duration": 34.5},
+    "point_to_point": lambda i: {"amplitudes": (2.1, -2.5, 2.0, -2.2, 2.4) if i % 2 else (-2.3, 2.4, -1.8, 2.5, -2.1, 1.5),
+                                 "move_time": 1.2 + 0.5 * (i % 2), "dwell": 2.55, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.18, 0.61, 1.8, 3.7), "dwell": 2.55, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib31_settings(n: int = 30):
+    """A thirty-first effect-free set (issues #30 and #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops x the three sensor sets, on three plants
+    no earlier set used (BONY, GAWKY, CHUBBY), 205-880 Hz, torque noise 0.057-0.076 N*m, white in half
+    the rows and AR(1) of coefficient 0.5 or 0.75 in the other half, velocity noise
+    0.0035-0.0048 deg/s, quantisation 0.0006-0.0011 deg; seeds 18000 + i."""
+    return _effect_free_set("calib31", CALIB31_EXCITATIONS, ["bony", "gawky", "chubby"],
+                            [(True, False), (True, True), (False, True)], [205.0, 560.0, 880.0, 290.0, 415.0],
+                            [0.057, 0.076, 0.064], [0.0, 0.5, 0.0, 0.75], [0.0035, 0.0048], [0.0006, 0.0011],
+                            18000, n, loops=("pid", "pi"), nff=3, plant_k=2, fs_k=2, tn_rule=(1, 5))
+
+
+_F30_FS = {"a": 310.0, "b": 465.0, "c": 255.0, "d": 480.0, "e": 330.0, "f": 405.0, "g": 360.0, "h": 285.0,
+           "i": 375.0}
+_F30_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.7},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] + 0.8}}
+
+
+def fresh30_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 255-480 Hz (by recipe), seeds 18100 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh30", _F30_FS, _F30_VARIED, 18100)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2288,6 +2341,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib28": calib28_settings, "fresh28": fresh28_settings,
             "calib29": calib29_settings, "fresh29": fresh29_settings,
             "calib30": calib30_settings, "outside9": outside9_settings,
+            "calib31": calib31_settings, "fresh30": fresh30_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2462,7 +2516,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
-               "calib30", "outside9")
+               "calib30", "outside9", "calib31", "fresh30")
 
 
 def main():
