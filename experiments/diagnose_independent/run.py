@@ -2313,6 +2313,20 @@ def fresh30_settings():
     return _refreshed("fresh30", _F30_FS, _F30_VARIED, 18100)
 
 
+def calib31_cells_settings():
+    """calib31's two false names with the fitted baseline (rows 02 and 04: encoder-only, position PID)
+    repeated on six new seeds each (18300 + 10*row + k), everything else as the row: the false-alarm
+    rate of those two design cells, not of the rows' one noise realisation. Fixed and committed before
+    its first run."""
+    rows = {r["key"]: r for r in calib31_settings()}
+    out = []
+    for key in ("calib31_02_multisine_pid", "calib31_04_point_to_point_pid"):
+        i = int(key.split("_")[1])
+        out += [rows[key] | {"key": f"calib31cells_{i:02d}_{k}_{key.split('_', 2)[2]}", "seed": 18300 + 10 * i + k}
+                for k in range(6)]
+    return out
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2341,7 +2355,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib28": calib28_settings, "fresh28": fresh28_settings,
             "calib29": calib29_settings, "fresh29": fresh29_settings,
             "calib30": calib30_settings, "outside9": outside9_settings,
-            "calib31": calib31_settings, "fresh30": fresh30_settings,
+            "calib31": calib31_settings, "fresh30": fresh30_settings, "calib31cells": calib31_cells_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2516,7 +2530,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh19", "calib19", "calib20", "fresh20", "calib21", "outside8", "fresh21", "calib22",
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
-               "calib30", "outside9", "calib31", "fresh30")
+               "calib30", "outside9", "calib31", "fresh30",
+               "calib31cells")
 
 
 def main():
