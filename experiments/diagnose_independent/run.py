@@ -2327,6 +2327,15 @@ def calib31_cells_settings():
     return out
 
 
+def calib30_cells_settings():
+    """calib30_09's design cell (REEDY, position sine under the position PID without feedforward,
+    encoder and velocity sensor; its false term without the attribution's margin came with a baseline
+    far from the generator's parameters) on six new seeds (18400 + k), everything else as the row: the
+    cell's false-alarm rate on the current design. Fixed and committed before its first run."""
+    row = {r["key"]: r for r in calib30_settings()}["calib30_09_position_sine_pid_nff"]
+    return [row | {"key": f"calib30cells_09_{k}_position_sine_pid_nff", "seed": 18400 + k} for k in range(6)]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2356,6 +2365,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib29": calib29_settings, "fresh29": fresh29_settings,
             "calib30": calib30_settings, "outside9": outside9_settings,
             "calib31": calib31_settings, "fresh30": fresh30_settings, "calib31cells": calib31_cells_settings,
+            "calib30cells": calib30_cells_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2531,7 +2541,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
-               "calib31cells")
+               "calib31cells", "calib30cells")
 
 
 def main():
