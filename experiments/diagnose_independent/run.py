@@ -2313,18 +2313,20 @@ def fresh30_settings():
     return _refreshed("fresh30", _F30_FS, _F30_VARIED, 18100)
 
 
+def _cell(row: dict, prefix: str, seeds) -> list[dict]:
+    """``row``'s design cell: the row again on each of ``seeds``, everything else as it is, keyed
+    ``<prefix>_<row number>_<k>_<excitation and loop>``."""
+    _, i, rest = row["key"].split("_", 2)
+    return [row | {"key": f"{prefix}_{i}_{k}_{rest}", "seed": seed} for k, seed in enumerate(seeds)]
+
+
 def calib31_cells_settings():
     """calib31's two false names with the fitted baseline (rows 02 and 04: encoder-only, position PID)
     repeated on six new seeds each (18300 + 10*row + k), everything else as the row: the false-alarm
     rate of those two design cells, not of the rows' one noise realisation. Fixed and committed before
     its first run."""
-    rows = {r["key"]: r for r in calib31_settings()}
-    out = []
-    for key in ("calib31_02_multisine_pid", "calib31_04_point_to_point_pid"):
-        i = int(key.split("_")[1])
-        out += [rows[key] | {"key": f"calib31cells_{i:02d}_{k}_{key.split('_', 2)[2]}", "seed": 18300 + 10 * i + k}
-                for k in range(6)]
-    return out
+    rows = calib31_settings()
+    return [r for i in (2, 4) for r in _cell(rows[i], "calib31cells", [18300 + 10 * i + k for k in range(6)])]
 
 
 def calib30_cells_settings():
@@ -2332,8 +2334,7 @@ def calib30_cells_settings():
     encoder and velocity sensor; its false term without the attribution's margin came with a baseline
     far from the generator's parameters) on six new seeds (18400 + k), everything else as the row: the
     cell's false-alarm rate on the current design. Fixed and committed before its first run."""
-    row = {r["key"]: r for r in calib30_settings()}["calib30_09_position_sine_pid_nff"]
-    return [row | {"key": f"calib30cells_09_{k}_position_sine_pid_nff", "seed": 18400 + k} for k in range(6)]
+    return _cell(calib30_settings()[9], "calib30cells", [18400 + k for k in range(6)])
 
 
 # each study's rows, fixed before its first run
