@@ -2337,6 +2337,47 @@ def calib30_cells_settings():
     return _cell(calib30_settings()[9], "calib30cells", [18400 + k for k in range(6)])
 
 
+# calib32pid: the position loop alone. Over the held-out effect-free sets, the false names fell on
+# position-PID rows; this set measures that loop's false-alarm rate on the current design. Three
+# plants no earlier set used.
+GRACILE = T.Plant(J=0.15, Fc=0.80, Fs=1.18, vs=0.050, sigma2=1.20, sigma0=200.0, sigma1=1.3)
+MEATY = T.Plant(J=0.30, Fc=1.30, Fs=1.80, vs=0.063, sigma2=1.60, sigma0=270.0, sigma1=2.1)
+HEFTIER = T.Plant(J=0.40, Fc=1.70, Fs=2.30, vs=0.072, sigma2=1.80, sigma0=320.0, sigma1=2.7)
+_add_plants({"gracile": (GRACILE, T.VelocityPIController(kp=7.0, ki=41.0)),
+             "meaty": (MEATY, T.VelocityPIController(kp=18.0, ki=108.0)),
+             "heftier": (HEFTIER, T.VelocityPIController(kp=28.0, ki=168.0))},
+            {"gracile": T.PositionPIDController.tuned(0.15, 3.1, tf=0.002),
+             "meaty": T.PositionPIDController.tuned(0.30, 2.8, tf=0.004),
+             "heftier": T.PositionPIDController.tuned(0.40, 2.6, tf=0.005)})
+
+CALIB32_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.038, 0.14, 0.55, 1.55, 3.4), "dwell": 3.1 if i % 2 else 3.5,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.049, "f1": 1.5, "duration": 37.0,
+                             "bias": 0.5 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.15 + 0.45 * (i % 2), "f0": 0.051, "f1": 1.15 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 37.0},
+    "position_sine": lambda i: {"amplitude": 2.2 + 2.3 * (i % 3), "frequency": 0.16 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.4, 1.9, -2.1, 2.5) if i % 2 else (-2.2, 2.5, -1.9, 2.3, -2.0, 1.6),
+                                 "move_time": 1.25 + 0.45 * (i % 2), "dwell": 2.6, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.055, 0.19, 0.63, 1.75, 3.6), "dwell": 2.6, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib32pid_settings(n: int = 36):
+    """An effect-free set of the position loop alone (issue #30), fixed and committed before its first
+    run: the six excitation kinds with other parameters x the position PID (without feedforward in
+    every fourth row) x the three sensor sets, on three plants no earlier set used (GRACILE, MEATY,
+    HEFTIER), 230-760 Hz, torque noise 0.055-0.072 N*m, white in half the rows and AR(1) of
+    coefficient 0.6 or 0.8 in the other half, velocity noise 0.0038-0.0052 deg/s, quantisation
+    0.0007-0.0012 deg; seeds 18500 + i."""
+    return _effect_free_set("calib32pid", CALIB32_EXCITATIONS, ["gracile", "meaty", "heftier"],
+                            [(True, False), (True, True), (False, True)], [230.0, 470.0, 760.0, 330.0, 610.0],
+                            [0.061, 0.072, 0.055], [0.0, 0.6, 0.0, 0.8], [0.0038, 0.0052], [0.0007, 0.0012],
+                            18500, n, loops=("pid", "pid"), nff=1, plant_k=2, fs_k=2, tn_rule=(1, 5))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2366,7 +2407,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib29": calib29_settings, "fresh29": fresh29_settings,
             "calib30": calib30_settings, "outside9": outside9_settings,
             "calib31": calib31_settings, "fresh30": fresh30_settings, "calib31cells": calib31_cells_settings,
-            "calib30cells": calib30_cells_settings,
+            "calib30cells": calib30_cells_settings, "calib32pid": calib32pid_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
