@@ -2583,7 +2583,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
-               "calib31cells", "calib30cells")
+               "calib31cells", "calib30cells", "calib32pid")
 
 
 def main():
