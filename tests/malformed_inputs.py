@@ -267,6 +267,8 @@ CASES: list[Case] = [
     Case("diag-candidates", "diagnose: unknown --candidates",
          lambda d: _diag(d, recording_text(), "--candidates", "gravity,warp_drive")),
     Case("diag-block", "diagnose: --block-s -1", lambda d: _diag(d, recording_text(), "--block-s", "-1")),
+    Case("diag-resolution", "diagnose: --resolution -0.1",
+         lambda d: _diag(d, recording_text(), "--resolution", "-0.1")),
     # --- --params JSON
     Case("par-J0", "--params: J = 0", lambda d: _diag_params(d, _with(J=0))),
     Case("par-vs0", "--params: vs = 0", lambda d: _diag_params(d, _with(vs=0))),

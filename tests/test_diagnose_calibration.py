@@ -359,6 +359,10 @@ def test_null_draws_resolve_a_third_of_alpha():
     assert DiagnoseConfig(null_draws=60).draws == 60
     with pytest.raises(ValueError, match="null_draws: expected at least 60"):
         DiagnoseConfig(null_draws=59)
+    with pytest.raises(ValueError, match="resolution: expected a share of the noise floor >= 0"):
+        DiagnoseConfig(resolution=-0.1)
+    with pytest.raises(ValueError, match="shape_resolution: expected"):
+        DiagnoseConfig(shape_resolution=float("nan"))
 
 
 def test_smoothing_blend_recovers_the_acceleration_a_window_smooths_away():

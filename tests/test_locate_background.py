@@ -155,14 +155,15 @@ def test_direction_cross_correlation_margin():
     a residual 0.25 s behind the direction by 0.004 N*m (5 % of 0.08 N*m noise, as left by a baseline
     at its floor, held-out recording held_null01) is located without the margin (z > 5) and not
     with it; one of 0.03 N*m (above the margin) still is (z > 5)."""
-    from lugre_jax.diagnose._locate import RESOLUTION, xcorr_test
+    from lugre_jax.diagnose import DiagnoseConfig
+    from lugre_jax.diagnose._locate import xcorr_test
 
     fs, n = 200.0, 40_000
     t = np.arange(n) / fs
     direction = np.sign(np.sin(2 * np.pi * 0.37 * t + 0.3))
     noise = 0.08 * np.random.default_rng(5).standard_normal(n)
     lag = int(0.25 * fs)
-    margin = RESOLUTION * 0.08
+    margin = DiagnoseConfig().resolution * 0.08
     for c, located_with_margin in ((0.004, False), (0.03, True)):
         r = noise + c * np.roll(direction, lag)
         bare = xcorr_test(r, direction, int(0.5 * fs), int(5 * fs))
@@ -206,3 +207,28 @@ def test_friction_trend_follows_the_friction_torque():
     assert abs(with_f["statistic"]) > 1.5 * abs(with_sign["statistic"]), (with_f, with_sign)
     hits = sum(trend(0.1 * rng.standard_normal(t.size), F)["p_value"] < 0.05 for _ in range(100))
     assert hits <= 8, hits
+
+
+def test_the_resolution_setting_reaches_the_binned_means():
+    """A direction-signed mean of 0.014 N*m below 0.5 deg/s (0.14 of the 0.1 N*m noise, just under the
+    default resolution of 0.15): no velocity band is located at the default, and with ``resolution=0``
+    the bands carrying it are (seeds 0-5 tried: none at the default, one to three at 0)."""
+    from lugre_jax.diagnose import DiagnoseConfig
+    from lugre_jax.diagnose._locate import locate
+    from lugre_jax.diagnose._model import block_ids
+    from lugre_jax.io import recording_from_arrays
+
+    speeds = np.array([0.02, 0.1, 0.4, 1.5, 5.0])
+    seq = np.concatenate([speeds, -speeds, speeds[[2, 4, 0, 3, 1]], -speeds[[2, 4, 0, 3, 1]]])
+    fs = 200.0
+    v = np.repeat(seq, int(2.5 * fs))
+    t = np.arange(v.size) / fs
+    rec = recording_from_arrays(t, np.cumsum(v) / fs, v, np.zeros_like(t), acceleration=np.zeros_like(t))
+    blocks = block_ids(t)
+    scales = {"V": 5.0, "A": 1.0, "noise": 0.1, "fs": fs}
+    assert DiagnoseConfig().resolution == 0.15
+    for seed in (0, 3):
+        r = 0.014 * np.sign(v) * (np.abs(v) < 0.5) + 0.1 * np.random.default_rng(seed).standard_normal(t.size)
+        bands = [sum(x["test"] == "velocity_band" for x in locate(rec, r, blocks, scales, **kw)["located"])
+                 for kw in ({}, {"resolution": 0.0})]
+        assert bands[0] == 0 and bands[1] >= 2, (seed, bands)

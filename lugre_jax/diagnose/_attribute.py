@@ -9,7 +9,7 @@ repeated on every draw), family-wise by min-P at the attribution's share of alph
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
 held-out RMSE significantly (its held-out gain against the same gain on every null draw,
 :func:`held_out_gains`, at the same share of alpha) and by a held-out share
-``sqrt(before^2 - after^2)`` of at least RESOLUTION (0.15) of the per-sample noise floor. The tests
+``sqrt(before^2 - after^2)`` of at least ``resolution`` (DiagnoseConfig, 0.15) of the per-sample noise floor. The tests
 alone are not enough: a fitted baseline off the true parameters leaves a nonlinear misfit that its
 linearised refit does not take and the null (which does not refit the baseline) does not simulate,
 and a long recording resolves it (docs/diagnosis.md, detection limits). The terms are linear in
@@ -24,7 +24,7 @@ import numpy as np
 
 from . import _calibrate as C
 from . import _model as M
-from ._locate import RESOLUTION
+from ._config import DiagnoseConfig
 
 
 @dataclasses.dataclass(frozen=True)
@@ -299,7 +299,8 @@ def _line_frequency(t, r, mask, lines=None) -> float:
 
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
-              at_floor_nm: float | None = None, motion=None, cond=None) -> Attribution:
+              at_floor_nm: float | None = None, motion=None, cond=None,
+              resolution: float = DiagnoseConfig.resolution) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
     ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. The time line is
     searched and fitted off the motion's lines ``motion`` (:func:`motion_lines`) that an error of
@@ -407,10 +408,10 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
             # what the term removes from the held-out error, per sample: it must reach the resolution
-            # locate claims structure at (RESOLUTION of the noise floor), above the nonlinear misfit a
+            # locate claims structure at (``resolution`` of the noise floor), above the nonlinear misfit a
             # fitted baseline leaves and the null does not simulate
             share = float(np.sqrt(max(compared ** 2 - new ** 2, 0.0)))
-            least = RESOLUTION * float(ctx.scales.get("noise", 0.0))
+            least = resolution * float(ctx.scales.get("noise", 0.0))
             if new < min(after, compared) and C.rejects(p_held, alpha) and share >= least:
                 taken = int(k), g, X, new, p_held, p_analytic, pred, beta, share
                 break

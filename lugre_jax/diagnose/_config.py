@@ -50,6 +50,17 @@ class DiagnoseConfig:
       physics outside the eight that a candidate partly absorbs is then left to the attribution; a
       correct candidate loses its name this way at most at ``alpha_name``.
     - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
+    - ``resolution`` (0.15): the smallest structure claimed, in units of the noise floor. Locate's
+      binned means, its cross-correlations with the velocity and its sign and the friction trend must
+      exceed it (their squared share, 0.0225, for the whiteness test), and a term of the attribution
+      must remove at least this share of the floor from the held-out RMSE. Below it sit the inverse
+      model's own errors in variables at the slowest speeds, which leave means of that order even with
+      the true parameters, and the misfit of a baseline fitted into another basin than the true
+      parameters', which the null draws do not simulate (0.03-0.13 of the floor on calib30's
+      effect-free recordings; docs/diagnosis.md, detection limits). 0 leaves the calibrated tests alone.
+    - ``shape_resolution`` (0.05): the friction-shape bands' margin beyond their errors-in-variables
+      mean, in units of the noise floor (the bands average over many samples, so a smaller share of
+      what the slowest speeds leave is enough).
     - ``identifiability_z`` (3.0): a named effect's key parameter must be this many standard errors
       from its no-effect value in the joint fit (a candidate the excitation cannot determine is not
       named even when its shapes reduce the residual).
@@ -84,6 +95,8 @@ class DiagnoseConfig:
     max_terms: int = 2
     top_k: int = 4
     max_steps: int = 80
+    resolution: float = 0.15
+    shape_resolution: float = 0.05
     identifiability_z: float = 3.0
     block_s: float | None = None
     at_floor: float = 1.1
@@ -102,6 +115,10 @@ class DiagnoseConfig:
             raise ValueError(f"DiagnoseConfig.top_k: expected at least 1, got {self.top_k}")
         if self.kinematic_draws < 1:
             raise ValueError(f"DiagnoseConfig.kinematic_draws: expected at least 1, got {self.kinematic_draws}")
+        for name in ("resolution", "shape_resolution"):
+            x = getattr(self, name)
+            if not (math.isfinite(x) and x >= 0):
+                raise ValueError(f"DiagnoseConfig.{name}: expected a share of the noise floor >= 0, got {x}")
         if self.block_s is not None and not self.block_s > 0:
             raise ValueError(f"DiagnoseConfig.block_s: expected a positive time, got {self.block_s}")
 

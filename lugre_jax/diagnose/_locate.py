@@ -31,11 +31,10 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
+from ._config import DiagnoseConfig
 
 BACKGROUND_DOF = 0.3  # degrees of freedom per neighbour of the time periodogram's median background
 MIN_PERIODS = 10  # a time-periodic line needs this many periods in the recording
-RESOLUTION = 0.15  # binned-mean margin, in units of the estimated per-sample torque noise
-SHAPE_RESOLUTION = 0.05  # the friction-shape bands' margin beyond their errors-in-variables mean
 SHAPE_BANDS = 10  # at most this many log-speed bands, each at least a factor 1.5 wide
 
 
@@ -130,7 +129,7 @@ def _extra_array(known, key: str, like: np.ndarray) -> np.ndarray:
     return np.zeros_like(like, dtype=float) if x is None else np.asarray(x, float)
 
 
-def _shape_bands(rec, r, blocks, moving, u, noise, known) -> list[dict]:
+def _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution: float) -> list[dict]:
     """The ``friction_shape`` tests (see ``binned_tests``): one per log-speed band, or none where
     the bands are too few to tell a shape from the baseline's own static shapes."""
     v = np.asarray(rec.velocity, float)
@@ -157,7 +156,7 @@ def _shape_bands(rec, r, blocks, moving, u, noise, known) -> list[dict]:
             continue
         res = cluster_mean_test(rs, m, blocks)
         if res is not None:
-            bm = abs(float(np.mean(eiv[m] * sv[m]))) + float(np.mean(cb[m])) + SHAPE_RESOLUTION * noise
+            bm = abs(float(np.mean(eiv[m] * sv[m]))) + float(np.mean(cb[m])) + shape_resolution * noise
             bands.append((lo, hi, m, res, bm))
     k = G.shape[1]
     if len(bands) < k + 2:  # too few bands to tell a shape from the baseline's own
@@ -178,7 +177,9 @@ def _shape_bands(rec, r, blocks, moving, u, noise, known) -> list[dict]:
     return out
 
 
-def binned_tests(rec, r, blocks, scales, known=None) -> list[dict]:
+def binned_tests(rec, r, blocks, scales, known=None, resolution: float = DiagnoseConfig.resolution,
+                 shape_resolution: float = DiagnoseConfig.shape_resolution) -> list[dict]:
+    """The binned-mean tests; ``resolution`` and ``shape_resolution``: :class:`DiagnoseConfig`'s."""
     known = dict(rec.extra) if known is None else known
     t, th, v, a = (np.asarray(x) for x in (rec.time, rec.position, rec.velocity, rec.acceleration))
     V, A = scales["V"], scales["A"]
@@ -189,7 +190,7 @@ def binned_tests(rec, r, blocks, scales, known=None) -> list[dict]:
     # the inverse model's own errors in variables at the slowest speeds leave means of that order
     # even with the true parameters, which is not missing physics
     noise = float(scales.get("noise", 0.0))
-    floor = noise * RESOLUTION
+    floor = noise * resolution
     margin = _extra_array(known, "conditioning_bias_nm", r) + floor
 
     def add(kind, region, mask):
@@ -213,8 +214,8 @@ def binned_tests(rec, r, blocks, scales, known=None) -> list[dict]:
     # band means of extra['static_basis'], weighted least squares) is taken out first: a fit pulled
     # by noisy transients leaves a shape of that kind on the precise plateaus, and it is not missing
     # physics. Each band's margin is its own expected errors-in-variables mean (from the perturbed
-    # kinematics, see diagnose), the conditioning bias, and SHAPE_RESOLUTION of the noise
-    out += _shape_bands(rec, r, blocks, moving, u, noise, known)
+    # kinematics, see diagnose), the conditioning bias, and ``shape_resolution`` of the noise
+    out += _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution)
     # position bins
     pe = np.unique(np.quantile(th, np.linspace(0, 1, 13)))
     for lo, hi in zip(pe[:-1], pe[1:]):
@@ -525,7 +526,8 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
 
 
 def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, keep=None,
-           friction=None, known: dict | None = None, null=None) -> dict:
+           friction=None, known: dict | None = None, null=None, resolution: float = DiagnoseConfig.resolution,
+           shape_resolution: float = DiagnoseConfig.shape_resolution) -> dict:
     """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring.
 
     ``filter_lags``: the memory (in samples) of the filter that conditioned the kinematics; the
@@ -549,7 +551,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     r = np.asarray(r, float)
     keep = np.ones(r.shape, bool) if keep is None else np.asarray(keep, bool)
     kappa = long_run_variance_factor(r, blocks)
-    tests = binned_tests(rec, r, blocks, scales, known)
+    tests = binned_tests(rec, r, blocks, scales, known, resolution, shape_resolution)
     pp = position_periodogram(rec.position, r, kappa)
     tests.append({"test": "position_periodic", "region": {"period": pp["period"], "unit": rec.units["position"]},
                   "statistic": pp["statistic"], "p_value": pp["p_value"], "m_eff": pp["m_eff"]})
@@ -615,7 +617,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
         # what it leaves along them below the binned means' margin is not claimed either (a
         # baseline at its floor leaves small correlations there that a long recording makes
         # significant)
-        mg = RESOLUTION * float(scales.get("noise", 0.0)) if name in ("velocity", "sign_velocity") else 0.0
+        mg = resolution * float(scales.get("noise", 0.0)) if name in ("velocity", "sign_velocity") else 0.0
         xc = xcorr_test(r_acc if name in ("acceleration", "jerk", "transmitted_torque") else r_x, x, max_lag, L, ml, mg)
         if xc is not None:
             xcs[name] = xc
@@ -636,21 +638,21 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     # over time) see it. F rather than sign(v): the drift scales the whole friction, so the fast
     # samples, whose viscous part is large, carry most of it, and only F weighs them so
     # margin: as for the binned means, a change of the direction-signed mean residual from the
-    # first half of the recording to the second (slope * mean|F| * duration / 2) below RESOLUTION
+    # first half of the recording to the second (slope * mean|F| * duration / 2) below ``resolution``
     # of the per-sample noise is not claimed
     tt = np.asarray(rec.time, float)
     dur = max(float(tt[-1] - tt[0]), 1e-300)
     shape = np.sign(np.asarray(rec.velocity, float)) if friction is None else np.asarray(friction, float)
     size = float(np.mean(np.abs(shape[keep]))) if keep.any() else 0.0
     tr = trend_test(r, shape * (tt - 0.5 * (tt[0] + tt[-1])), blocks, keep,
-                    margin=RESOLUTION * float(scales.get("noise", 0.0)) / (0.5 * dur * max(size, 1e-300)))
+                    margin=resolution * float(scales.get("noise", 0.0)) / (0.5 * dur * max(size, 1e-300)))
     if tr is not None:
         region = {"input": "sign(v)*(t - t_mid)" if friction is None else "F*(t - t_mid)", "slope": tr["slope"]}
         if friction is not None:
             region["relative_change_over_recording"] = tr["slope"] * dur
         tests.append({"test": "friction_trend", "region": region, "statistic": tr["statistic"],
                       "p_value": tr["p_value"]})
-    lb_margin = RESOLUTION ** 2 if scales.get("noise") else 0.0
+    lb_margin = resolution ** 2 if scales.get("noise") else 0.0
     lb = ljung_box(r, min_lag=max(1, filter_lags), margin=lb_margin)
     test = {"test": "whiteness_ljung_box", "region": {"whole_recording": True, "lags": lb["df"],
                                                       "from_lag": max(1, filter_lags)},

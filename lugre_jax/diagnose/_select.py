@@ -529,7 +529,8 @@ def _locate(prep, split, floor, cfg, model, r, filter_lags, at_floor: bool):
 
     draws = null_draws(model, prep.kin, floor.null, cfg.draws, cfg.seed + 2000)
     loc = L.locate(prep.rec, r, split.blocks, floor.scales, cfg.alpha_locate, filter_lags, split.keep,
-                   _friction(model, prep.kin), known=floor.known, null=draws)
+                   _friction(model, prep.kin), known=floor.known, null=draws, resolution=cfg.resolution,
+                   shape_resolution=cfg.shape_resolution)
     return _mismatch(loc, at_floor)
 
 
@@ -773,7 +774,8 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
                      quantised_derivatives=_quantised_derivatives(prep.cond),
-                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond)
+                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond,
+                     resolution=cfg.resolution)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
