@@ -172,15 +172,9 @@ def test_direction_cross_correlation_margin():
         assert (kept["statistic"] > 5.0) == located_with_margin, (c, kept["statistic"])
 
 
-def test_friction_trend_follows_the_friction_torque():
-    """A drift of the whole friction (-8 % over the recording) on a staircase to 5 deg/s whose
-    viscous part (0.3 N*m*s/deg) doubles the friction at the top speed: the half-to-half change of
-    the direction-signed mean is 0.02-0.03 N*m, a quarter of the 0.1 N*m noise. The trend test on
-    the friction torque F*(t - t_mid) finds it (Holm-level p); on sign(v)*(t - t_mid), which
-    weighs the slow samples as much as the fast ones that carry the drift, its t statistic is
-    lower. On effect-free residuals the friction-shaped test fires at most 8 of 100 times at 5 %
-    (binomial P(>= 9) = 0.06)."""
-    from lugre_jax.diagnose._locate import locate
+def _staircase_to_5():
+    """A 200-Hz staircase through 0.02-5 deg/s, both directions, 2.5 s a level: the recording (no
+    torque), its ~1-s blocks and the scales of a 0.1 N*m noise."""
     from lugre_jax.diagnose._model import block_ids
     from lugre_jax.io import recording_from_arrays
 
@@ -190,9 +184,22 @@ def test_friction_trend_follows_the_friction_torque():
     v = np.repeat(seq, int(2.5 * fs))
     t = np.arange(v.size) / fs
     rec = recording_from_arrays(t, np.cumsum(v) / fs, v, np.zeros_like(t), acceleration=np.zeros_like(t))
+    return rec, block_ids(t), {"V": 5.0, "A": 1.0, "noise": 0.1, "fs": fs}
+
+
+def test_friction_trend_follows_the_friction_torque():
+    """A drift of the whole friction (-8 % over the recording) on a staircase to 5 deg/s whose
+    viscous part (0.3 N*m*s/deg) doubles the friction at the top speed: the half-to-half change of
+    the direction-signed mean is 0.02-0.03 N*m, a quarter of the 0.1 N*m noise. The trend test on
+    the friction torque F*(t - t_mid) finds it (Holm-level p); on sign(v)*(t - t_mid), which
+    weighs the slow samples as much as the fast ones that carry the drift, its t statistic is
+    lower. On effect-free residuals the friction-shaped test fires at most 8 of 100 times at 5 %
+    (binomial P(>= 9) = 0.06)."""
+    from lugre_jax.diagnose._locate import locate
+
+    rec, blocks, scales = _staircase_to_5()
+    t, v = np.asarray(rec.time), np.asarray(rec.velocity)
     F = 1.5 * np.sign(v) + 0.3 * v
-    blocks = block_ids(t)
-    scales = {"V": 5.0, "A": 1.0, "noise": 0.1, "fs": fs}
     rate = -0.08 / (t[-1] - t[0])
 
     def trend(r, friction):
@@ -215,17 +222,9 @@ def test_the_resolution_setting_reaches_the_binned_means():
     the bands carrying it are (seeds 0-5 tried: none at the default, one to three at 0)."""
     from lugre_jax.diagnose import DiagnoseConfig
     from lugre_jax.diagnose._locate import locate
-    from lugre_jax.diagnose._model import block_ids
-    from lugre_jax.io import recording_from_arrays
 
-    speeds = np.array([0.02, 0.1, 0.4, 1.5, 5.0])
-    seq = np.concatenate([speeds, -speeds, speeds[[2, 4, 0, 3, 1]], -speeds[[2, 4, 0, 3, 1]]])
-    fs = 200.0
-    v = np.repeat(seq, int(2.5 * fs))
-    t = np.arange(v.size) / fs
-    rec = recording_from_arrays(t, np.cumsum(v) / fs, v, np.zeros_like(t), acceleration=np.zeros_like(t))
-    blocks = block_ids(t)
-    scales = {"V": 5.0, "A": 1.0, "noise": 0.1, "fs": fs}
+    rec, blocks, scales = _staircase_to_5()
+    t, v = np.asarray(rec.time), np.asarray(rec.velocity)
     assert DiagnoseConfig().resolution == 0.15
     for seed in (0, 3):
         r = 0.014 * np.sign(v) * (np.abs(v) < 0.5) + 0.1 * np.random.default_rng(seed).standard_normal(t.size)
