@@ -7,6 +7,9 @@ true model's residual gets) and prints the floor against it and against the true
 
     python experiments/diagnose_independent/true_floor.py --study calib3 --shard 0/2   # and 1/2
     python experiments/diagnose_independent/true_floor.py --study calib29 --only calib29_09_position_sine_pi
+
+With ``--all-candidates`` the eight candidates are tested too (to <out>/true_floor_all_<study>.jsonl): what
+the selection names on the true model's residual.
 """
 
 from __future__ import annotations
@@ -25,11 +28,12 @@ def main() -> None:
     ap.add_argument("--shard", default="0/1", help="i/n: every n-th recording starting at i")
     ap.add_argument("--only", default="", help="comma-separated keys (default: every effect-free recording)")
     ap.add_argument("--cache", default=None, help="generated-recording cache (default <results>/<study>/cache)")
+    ap.add_argument("--all-candidates", action="store_true", help="test the eight candidates too")
     a = ap.parse_args()
     i, n = (int(x) for x in a.shard.split("/"))
     out = Path(__file__).resolve().with_name("results") / a.study
     out.mkdir(parents=True, exist_ok=True)
-    path = out / f"true_floor_{a.study}.jsonl"
+    path = out / f"true_floor_{'all_' if a.all_candidates else ''}{a.study}.jsonl"
     done = {json.loads(line)["key"] for line in path.read_text().splitlines()} if path.exists() else set()
     jobs = [j for k, j in enumerate(R.jobs(a.study, [11], [1.0])) if k % n == i and j["key"] not in done
             and j.get("expected", "none") == "none" and (not a.only or j["key"] in a.only.split(","))]
@@ -38,7 +42,7 @@ def main() -> None:
         plant, _ = R.controller_of(job)
         params = {k: float(getattr(plant, k)) for k in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
         rep = diagnose(g.to_recording(), params=params | {"offset": 0.0, "friction_model": "LuGre"},
-                       candidates=[], progress=False)
+                       candidates=None if a.all_candidates else [], progress=False)
         b = rep.baseline
         row = {"key": job["key"], "true_torque_noise": g.torque_noise_std,
                "true_model_validation_rmse": b.validation_rmse_nm, "noise_floor": b.noise_floor_nm,
