@@ -363,6 +363,10 @@ def test_null_draws_resolve_a_third_of_alpha():
         DiagnoseConfig(resolution=-0.1)
     with pytest.raises(ValueError, match="shape_resolution: expected"):
         DiagnoseConfig(shape_resolution=float("nan"))
+    with pytest.raises(ValueError, match=r"event_alpha: expected a number in \(0, 1\)"):
+        DiagnoseConfig(event_alpha=0.0)
+    with pytest.raises(ValueError, match="resolved_share: expected"):
+        DiagnoseConfig(resolved_share=-1.0)
 
 
 def test_smoothing_blend_recovers_the_acceleration_a_window_smooths_away():

@@ -95,7 +95,7 @@ def test_torque_noise_through_a_prediction_leaves_the_signal_out():
     assert abs(s1 / true - 1) < 0.07 and phi > 0.4
     prep, _ = S._prepare(g.to_recording(), DiagnoseConfig(), None, "lugre", False)
     assert prep.cond.torque_noise > 1.15 * true
-    refined = S._noise(prep, np.asarray(M.predict(prep.base, prep.kin), float))
+    refined = S._noise(prep, np.asarray(M.predict(prep.base, prep.kin), float), DiagnoseConfig().resolved_share)
     assert abs(refined.cond.torque_noise / true - 1) < 0.07
     assert refined.info["torque_noise_before_fit"]["std_nm"] == prep.cond.torque_noise
 
@@ -196,18 +196,24 @@ def test_validation_phase_moves_only_off_concentrated_events():
     """validation_phase: the fixed phase 2 unless it holds more than 0.6 of some kind of event and
     more than chance allows (binomial p < 0.001); then the least loaded phase, the nearest to 2 on
     ties."""
+    from lugre_jax.diagnose import DiagnoseConfig
     from lugre_jax.diagnose._model import block_ids, validation_phase
+
+    cfg = DiagnoseConfig()
+
+    def phase(blocks, events):
+        return validation_phase(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)
 
     t = np.arange(0.0, 100.0, 0.01)
     blocks = block_ids(t)
     at = lambda times: np.isin(np.round(t, 2), np.round(times, 2))  # noqa: E731
-    assert validation_phase(blocks, [at(np.arange(2.5, 100, 5.0))]) == 1  # all in phase 2
-    assert validation_phase(blocks, [at(np.arange(0.5, 100, 1.0))]) == 2  # spread evenly
-    assert validation_phase(blocks, [at(np.arange(2.5, 20, 5.0))]) == 2  # four of four: p 0.0016
-    assert validation_phase(blocks, [at(np.arange(2.5, 25, 5.0))]) == 1  # five of five: p 0.0003
-    assert validation_phase(blocks, [at(np.array([2.5, 7.5, 12.5, 17.5, 20.5, 31.5]))]) == 2  # 4/6: p 0.017
-    assert validation_phase(blocks, [at(np.arange(2.5, 100, 5.0)) | at(np.arange(1.5, 100, 5.0))]) == 2  # 0.5
-    assert validation_phase(blocks, [at(np.arange(2.5, 100, 5.0)) | at(np.arange(1.5, 100, 25.0))]) == 3
+    assert phase(blocks, [at(np.arange(2.5, 100, 5.0))]) == 1  # all in phase 2
+    assert phase(blocks, [at(np.arange(0.5, 100, 1.0))]) == 2  # spread evenly
+    assert phase(blocks, [at(np.arange(2.5, 20, 5.0))]) == 2  # four of four: p 0.0016
+    assert phase(blocks, [at(np.arange(2.5, 25, 5.0))]) == 1  # five of five: p 0.0003
+    assert phase(blocks, [at(np.array([2.5, 7.5, 12.5, 17.5, 20.5, 31.5]))]) == 2  # 4/6: p 0.017
+    assert phase(blocks, [at(np.arange(2.5, 100, 5.0)) | at(np.arange(1.5, 100, 5.0))]) == 2  # 0.5
+    assert phase(blocks, [at(np.arange(2.5, 100, 5.0)) | at(np.arange(1.5, 100, 25.0))]) == 3
 
 
 @pytest.mark.slow

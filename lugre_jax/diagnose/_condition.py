@@ -17,6 +17,8 @@ import dataclasses
 import numpy as np
 from scipy.signal import freqz, savgol_coeffs, savgol_filter
 
+from ._config import DiagnoseConfig
+
 
 def _mad_std(d) -> float:
     return float(1.4826 * np.median(np.abs(d - np.median(d))))
@@ -167,14 +169,15 @@ def torque_noise_model(torque, profile=None) -> tuple[float, float, bool]:
     return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
 
 
-def refined_torque_noise(torque, prediction, std: float) -> tuple[float, float, bool]:
+def refined_torque_noise(torque, prediction, std: float,
+                         share: float = DiagnoseConfig.resolved_share) -> tuple[float, float, bool]:
     """:func:`torque_noise_model` again, with the lag-k third differences left out where the fitted
     model's ``prediction`` of the torque has its own lag-k third difference above
-    ``RESOLVED_BIAS_SHARE`` of the noise's (``std``, the first estimate): there the signal, not the
+    ``share`` of the noise's (``std``, the first estimate): there the signal, not the
     noise, sets the difference. The profile's long lags, which tell a colour, otherwise hold the
     motion's fast changes too (a coloured noise at a low rate, where few lags span the correlation,
     reads high by that)."""
-    limit = RESOLVED_BIAS_SHARE * float(np.sqrt(20.0)) * std
+    limit = share * float(np.sqrt(20.0)) * std
     return torque_noise_model(torque, noise_profile(torque, signal=prediction, limit=limit))
 
 
@@ -315,17 +318,13 @@ ORDERS = (3, 5)
 # sees as a line; an order-5 window is considered only where the acceleration noise it brings
 # (J0 times its noise) is below this share of the torque noise
 ORDER5_NOISE_SHARE = 0.5
-
-# A sample's kinematics count as resolved when the smoothing bias bound there is below this share of
-# the torque noise; elsewhere (sharp transients seen through a long window) J*a is not known from
-# the samples, and the sample leaves the fit, the validation and the tests.
-RESOLVED_BIAS_SHARE = 0.5
 # torque noise below this share of the torque's range is rounding (a simulation written to CSV):
 # such a recording is used as loaded, since no smoothing is needed and every bias would count
 NOISE_FREE_SHARE = 1e-7
 
 
-def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False):
+def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False,
+              resolved_share: float = DiagnoseConfig.resolved_share):
     """Choose and condition the kinematics of ``rec``; returns (conditioned recording,
     Conditioning, unresolved mask); with ``error_only``, the chosen window's estimated squared
     torque error (below) only. ``choices``: (source, W, order) triples to choose from (default: every
@@ -345,7 +344,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     (on the samples both resolve) is used.
 
     Unresolved samples: where the per-sample smoothing-bias bound exceeds
-    ``RESOLVED_BIAS_SHARE`` of the torque noise (widened by the window), and, with a velocity column,
+    ``resolved_share`` of the torque noise (widened by the window), and, with a velocity column,
     sharp transients the sampling cannot resolve (:func:`unresolved_transients`).
     """
     from ..io import Recording
@@ -411,7 +410,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
     # difference is mostly noise, which the floor's errors-in-variables part already counts
     significant = np.abs(a - a2) > 3.0 * sig_d
-    bad = maximum_filter1d(((bias_nm > RESOLVED_BIAS_SHARE * st) & significant).astype(np.int8), W) > 0
+    bad = maximum_filter1d(((bias_nm > resolved_share * st) & significant).astype(np.int8), W) > 0
     if vel_meas:
         bad |= sharp
     if source == "position" and q > 0:
@@ -513,10 +512,11 @@ def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 
     return savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=float(np.median(np.diff(np.asarray(t, float)))))
 
 
-def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict) -> np.ndarray:
+def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict,
+                          share: float = DiagnoseConfig.resolved_share) -> np.ndarray:
     """Samples where the whole model's torque changes by more than the resolved share when its
     velocity and acceleration come from the window ``2W-1`` instead: the smoothing-bias rule of
-    :func:`condition` (a third of the change from W to 2W-1 above ``RESOLVED_BIAS_SHARE`` of the
+    :func:`condition` (a third of the change from W to 2W-1 above ``share`` of the
     torque noise, where the change is above three times its own noise; widened by the window),
     with the model's torque in place of ``J0*a``. Near a slow reversal a smoothed velocity moves
     the friction through its Stribeck slope and bristles by many times the noise, where ``J0*a``
@@ -546,7 +546,7 @@ def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict) -> np.ndar
 
     significant = (np.abs(np.asarray(kin.v) - v2) > 3.0 * change_noise(dv)) | \
                   (np.abs(np.asarray(kin.a) - a2) > 3.0 * change_noise(dv + 1))
-    bad = (bias_nm > RESOLVED_BIAS_SHARE * cond.torque_noise) & significant
+    bad = (bias_nm > share * cond.torque_noise) & significant
     return maximum_filter1d(bad.astype(np.int8), W) > 0
 
 

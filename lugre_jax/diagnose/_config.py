@@ -79,6 +79,19 @@ class DiagnoseConfig:
       breakaway level (no number of its own: the rest test runs at ``alpha``, and a shorter run is
       a passage through zero the smoothed kinematics resolve).
     - ``min_resolved`` (100): resolved training samples a baseline fit needs (about ten parameters).
+    - ``resolved_share`` (0.5): a sample's kinematics count as resolved where the smoothing-bias bound
+      there (a third of the change of the acceleration, or of the whole model torque, from the window
+      W to 2W-1) is below this share of the torque noise; elsewhere (a sharp transient seen through a
+      long window) the torque is not known from the samples, and the sample leaves the fit, the
+      validation and the tests. The same share bounds a held-out sample's prediction error (its
+      leverage under the training blocks) and the model torque's third differences kept out of the
+      torque-noise estimate. A bias of half the noise adds at most a quarter of the noise variance
+      where the bound is reached, and the bound is an upper one.
+    - ``max_event_share`` (0.6) and ``event_alpha`` (1e-3): the held-out phase moves off the fixed one
+      when that phase holds more than this share of a kind of event (reversals, bursts of
+      acceleration; 0.2 is due) and more than chance alignment allows (binomial tail below
+      ``event_alpha``): an excitation periodic in five blocks would otherwise keep every reversal
+      from the fit. Six reversals with four in one phase (p 0.017) stay.
     - ``bristle_memory_share`` (0.1): after a transient the velocity-only path cannot follow, samples
       are left out until the wrong bristle state it leaves can bring at most this share of the
       torque noise (the bias then adds 1 % to the noise variance, a tenth of what the floor resolves).
@@ -101,6 +114,9 @@ class DiagnoseConfig:
     block_s: float | None = None
     at_floor: float = 1.1
     min_resolved: int = 100
+    resolved_share: float = 0.5
+    max_event_share: float = 0.6
+    event_alpha: float = 1e-3
     rechoose_share: float = 0.05
     bristle_memory_share: float = 0.1
 
@@ -115,6 +131,11 @@ class DiagnoseConfig:
             raise ValueError(f"DiagnoseConfig.top_k: expected at least 1, got {self.top_k}")
         if self.kinematic_draws < 1:
             raise ValueError(f"DiagnoseConfig.kinematic_draws: expected at least 1, got {self.kinematic_draws}")
+        for name, lo, hi in (("resolved_share", 0.0, math.inf), ("max_event_share", 0.0, 1.0),
+                             ("event_alpha", 0.0, 1.0)):
+            x = getattr(self, name)
+            if not lo < x < hi:
+                raise ValueError(f"DiagnoseConfig.{name}: expected a number in ({lo:g}, {hi:g}), got {x}")
         for name in ("resolution", "shape_resolution"):
             x = getattr(self, name)
             if not (math.isfinite(x) and x >= 0):

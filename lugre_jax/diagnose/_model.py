@@ -541,16 +541,13 @@ def event_starts(mask: np.ndarray) -> np.ndarray:
     return m & ~np.concatenate([[False], m[:-1]])
 
 
-MAX_EVENT_SHARE = 0.6  # of a kind of event in one phase of five (0.2 due)
-EVENT_ALPHA = 1e-3  # and more than chance alignment allows (binomial, per kind)
-
-
-def phases_holding_events(blocks: np.ndarray, events, every: int = VALIDATION_EVERY) -> tuple[np.ndarray, np.ndarray]:
+def phases_holding_events(blocks: np.ndarray, events, every: int = VALIDATION_EVERY, *, max_share: float,
+                          alpha: float) -> tuple[np.ndarray, np.ndarray]:
     """Per block phase: the largest share of any kind of event (``events``: boolean masks of event
     starts) that falls in it, and whether that phase holds too many of some kind -- more than
-    ``MAX_EVENT_SHARE`` of them, and more than chance alignment allows (binomial tail below
-    ``EVENT_ALPHA``, so a handful of events is not judged: six reversals with four in one phase,
-    p 0.017, stay)."""
+    ``max_share`` of them, and more than chance alignment allows (binomial tail below ``alpha``, so a
+    handful of events is not judged; :class:`DiagnoseConfig`'s ``max_event_share`` and
+    ``event_alpha``)."""
     from scipy.stats import binom
 
     phase = np.asarray(blocks) % every
@@ -562,12 +559,12 @@ def phases_holding_events(blocks: np.ndarray, events, every: int = VALIDATION_EV
             continue
         k = np.bincount(phase[ev], minlength=every)[:every]
         worst = np.maximum(worst, k / n)
-        held |= (k > MAX_EVENT_SHARE * n) & (binom.sf(k - 1, n, 1.0 / every) < EVENT_ALPHA)
+        held |= (k > max_share * n) & (binom.sf(k - 1, n, 1.0 / every) < alpha)
     return worst, held
 
 
 def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
-                     default: int = VALIDATION_PHASE) -> int:
+                     default: int = VALIDATION_PHASE, *, max_share: float, alpha: float) -> int:
     """The held-out phase of the interleaved blocks: ``default``, unless it holds too many of some
     kind of event the fit must see (:func:`phases_holding_events`; e.g. the reversals); then the
     phase whose largest share is least, the nearest to ``default`` on ties.
@@ -575,7 +572,7 @@ def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
     An excitation whose period is a multiple of ``every`` blocks puts its events in one phase: a
     0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks every
     reversal falls in the third block of five, and a fit on the other four never sees one."""
-    worst, held = phases_holding_events(blocks, events, every)
+    worst, held = phases_holding_events(blocks, events, every, max_share=max_share, alpha=alpha)
     if not held[default]:
         return default
     return min(range(every), key=lambda j: (worst[j], abs(j - default), j))

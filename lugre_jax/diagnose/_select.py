@@ -232,14 +232,16 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
                              smoothing_blend)
 
     rough = M.initial_baseline(rec, friction, fit_offset)
-    crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
+    crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)),
+                                       resolved_share=cfg.resolved_share)
     # the first least-squares inertia comes from the loader's raw derivatives; where they are noisy
     # (a differentiated encoder) errors in variables shrink it, and the window chosen for it is too
     # long: estimate it again on the conditioned kinematics
     rough2 = M.initial_baseline(crec, friction, fit_offset)
     if not 0.8 <= float(rough2.J) / max(float(rough.J), 1e-300) <= 1.25:
         rough = rough2
-        crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
+        crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)),
+                                           resolved_share=cfg.resolved_share)
     rest = _dwells(crec, cond, cfg)
     unresolved = unresolved | rest
     rechosen = None
@@ -283,12 +285,14 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
         if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
             break
-        crec2, cond2, unresolved2 = condition(rec, J_fit, s2_fit)
+        crec2, cond2, unresolved2 = condition(rec, J_fit, s2_fit, resolved_share=cfg.resolved_share)
         if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order) \
                 or cond2.source == "recording":  # no window error to compare for data used as loaded
             break
-        mse_old = condition(rec, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
-        mse_new = condition(rec, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
+        mse_old = condition(rec, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True,
+                            resolved_share=cfg.resolved_share)
+        mse_new = condition(rec, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True,
+                            resolved_share=cfg.resolved_share)
         if mse_old - mse_new <= cfg.rechoose_share * cond.torque_noise ** 2:
             break
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
@@ -316,7 +320,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         info["bristle_path"] = path
     # the smoothing-bias rule again, through the fitted model's whole torque (near slow reversals the
     # friction's, not the inertia's): samples it adds leave the fit, which is repeated without them
-    smoothed = model_bias_unresolved(rec, cond, kin, lambda k_: M.predict(base, k_)) & ~unresolved
+    smoothed = model_bias_unresolved(rec, cond, kin, lambda k_: M.predict(base, k_), cfg.resolved_share) & ~unresolved
     split_smoothed = None
     if np.any(smoothed):
         try:
@@ -385,9 +389,10 @@ def _split(rec, cond, unresolved, cfg) -> Split:
     # of acceleration (an excitation periodic in five blocks) away from the fit
     events = [keep & (since == 0),
               M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
-    phase = M.validation_phase(blocks, events)
+    phase = M.validation_phase(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)
     val = M.validation_mask(blocks, phase=phase) & keep
-    folds = tuple(j for j, h in enumerate(M.phases_holding_events(blocks, events)[1]) if not h or j == phase)
+    held = M.phases_holding_events(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)[1]
+    folds = tuple(j for j, h in enumerate(held) if not h or j == phase)
     cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
     w = ((~val) & keep).astype(float)
     if int(w.sum()) < cfg.min_resolved or int(val.sum()) < cfg.min_resolved // 4:
@@ -400,16 +405,15 @@ def _split(rec, cond, unresolved, cfg) -> Split:
     return Split(blocks, keep, val, phase, folds, cv_mask, w, n_rev)
 
 
-def _predicted(prep: Prepared, split: Split, fit_offset) -> Split:
+def _predicted(prep: Prepared, split: Split, fit_offset, share: float) -> Split:
     """``split`` without the held-out samples whose model torque the training blocks do not
     determine: where a held-out sample's leverage ``h = j (J'J)^-1 j'`` (``j`` its row of the
     baseline's Jacobian, ``J`` the training rows') puts the fitted prediction's standard error
-    ``sqrt(h)`` times the noise above ``RESOLVED_BIAS_SHARE`` of it, the criterion a sample's
+    ``sqrt(h)`` times the noise above ``share`` of it (``resolved_share``), the criterion a sample's
     kinematics must meet. Such samples are extrapolation (a reversal only a held-out block
     resolves, the bristle parameters then set by nothing the fit saw): their error is the fit's, not
     missing physics, and they leave the validation and the tests."""
     from ._calibrate import jacobian
-    from ._condition import RESOLVED_BIAS_SHARE
 
     if prep.k == 0 or not np.any(split.val):
         return split
@@ -425,14 +429,14 @@ def _predicted(prep: Prepared, split: Split, fit_offset) -> Split:
     G += 1e-10 * max(float(np.trace(G)) / G.shape[0], 1e-300) * np.eye(G.shape[0])
     h = np.einsum("ij,ji->i", J[held], np.linalg.solve(G, J[held].T))
     bad = np.zeros_like(split.val)
-    bad[np.flatnonzero(split.keep)[held]] = h > RESOLVED_BIAS_SHARE ** 2
+    bad[np.flatnonzero(split.keep)[held]] = h > share ** 2
     if not np.any(bad) or not np.any(split.val & ~bad):
         return split
     return dataclasses.replace(split, keep=split.keep & ~bad, val=split.val & ~bad, cv_mask=split.cv_mask & ~bad,
                                unpredicted=int(bad.sum()))
 
 
-def _noise(prep: Prepared, prediction: np.ndarray) -> Prepared:
+def _noise(prep: Prepared, prediction: np.ndarray, share: float) -> Prepared:
     """``prep`` with the torque noise estimated again through the fitted model
     (:func:`~._condition.refined_torque_noise`): the differences the model's torque sets are left out
     of the noise profile, so the motion's fast changes no longer read as colour. The estimate made
@@ -440,7 +444,7 @@ def _noise(prep: Prepared, prediction: np.ndarray) -> Prepared:
     from ._condition import refined_torque_noise
 
     c = prep.cond
-    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise)
+    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise, share)
     cond = dataclasses.replace(c, torque_noise=st, torque_noise_colour=phi, torque_noise_open=open_)
     info = {**prep.info, "torque_noise_before_fit": {"std_nm": c.torque_noise, "colour": c.torque_noise_colour}}
     return dataclasses.replace(prep, cond=cond, info=info)
@@ -744,10 +748,10 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
     frozen = params is not None
     prep, split = _prepare(rec, cfg, params, friction, fit_offset)
-    split = _predicted(prep, split, fit_offset)
+    split = _predicted(prep, split, fit_offset, cfg.resolved_share)
     prediction = np.asarray(M.predict(prep.base, prep.kin), float)
     r0 = (np.asarray(prep.rec.torque) - prediction) * split.keep
-    prep = _noise(prep, prediction)
+    prep = _noise(prep, prediction, cfg.resolved_share)
     floor = _floor(prep, split, cfg, fit_offset, r0)
     flags = _filter_lags(prep)
     loc0 = _locate(prep, split, floor, cfg, prep.base, r0, flags, floor.ratio <= cfg.at_floor)
