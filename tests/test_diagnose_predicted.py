@@ -29,14 +29,16 @@ def test_held_out_samples_the_training_does_not_determine_leave_the_validation()
     undetermined (Fs and vs changed, the training SSE within a hundredth of one noise variance) predicts them
     differently by more than half the noise. The blocks' own held-out phase loses nothing."""
     prep, split = _prepared()
-    assert S._predicted(prep, split, False) is split  # the recording's own split: every sample determined
+    share = DiagnoseConfig().resolved_share
+    # the recording's own split: every sample determined
+    assert S._predicted(prep, split, False, share) is split
 
     v = np.abs(np.asarray(prep.rec.velocity))
     vs = float(prep.base.friction.vs)
     slow = split.keep & (v < 3 * vs)
     crafted = dataclasses.replace(split, val=slow, w=(split.keep & ~slow).astype(float),
                                   cv_mask=split.keep.copy())
-    out = S._predicted(prep, crafted, False)
+    out = S._predicted(prep, crafted, False, share)
     dropped = crafted.val & ~out.val
     assert out.unpredicted == int(dropped.sum()) > 0.2 * int(slow.sum())
     assert not np.any(out.keep & dropped) and np.array_equal(out.keep | dropped, crafted.keep)
