@@ -572,10 +572,15 @@ def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
     An excitation whose period is a multiple of ``every`` blocks puts its events in one phase: a
     0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks every
     reversal falls in the third block of five, and a fit on the other four never sees one."""
-    worst, held = phases_holding_events(blocks, events, every, max_share=max_share, alpha=alpha)
+    return phase_off_events(*phases_holding_events(blocks, events, every, max_share=max_share, alpha=alpha),
+                            default)
+
+
+def phase_off_events(worst: np.ndarray, held: np.ndarray, default: int = VALIDATION_PHASE) -> int:
+    """:func:`validation_phase`'s choice from :func:`phases_holding_events`' ``(worst, held)``."""
     if not held[default]:
         return default
-    return min(range(every), key=lambda j: (worst[j], abs(j - default), j))
+    return min(range(len(worst)), key=lambda j: (worst[j], abs(j - default), j))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -231,17 +231,18 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
     from ._condition import (blended, condition, conditioned_kinematics, forget_after, model_bias_unresolved,
                              smoothing_blend)
 
+    def conditioned(J0, s2_0, **kw):
+        return condition(rec, J0, s2_0, resolved_share=cfg.resolved_share, **kw)
+
     rough = M.initial_baseline(rec, friction, fit_offset)
-    crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)),
-                                       resolved_share=cfg.resolved_share)
+    crec, cond, unresolved = conditioned(float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     # the first least-squares inertia comes from the loader's raw derivatives; where they are noisy
     # (a differentiated encoder) errors in variables shrink it, and the window chosen for it is too
     # long: estimate it again on the conditioned kinematics
     rough2 = M.initial_baseline(crec, friction, fit_offset)
     if not 0.8 <= float(rough2.J) / max(float(rough.J), 1e-300) <= 1.25:
         rough = rough2
-        crec, cond, unresolved = condition(rec, float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)),
-                                           resolved_share=cfg.resolved_share)
+        crec, cond, unresolved = conditioned(float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     rest = _dwells(crec, cond, cfg)
     unresolved = unresolved | rest
     rechosen = None
@@ -285,14 +286,12 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
         if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
             break
-        crec2, cond2, unresolved2 = condition(rec, J_fit, s2_fit, resolved_share=cfg.resolved_share)
+        crec2, cond2, unresolved2 = conditioned(J_fit, s2_fit)
         if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order) \
                 or cond2.source == "recording":  # no window error to compare for data used as loaded
             break
-        mse_old = condition(rec, J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True,
-                            resolved_share=cfg.resolved_share)
-        mse_new = condition(rec, J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True,
-                            resolved_share=cfg.resolved_share)
+        mse_old = conditioned(J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
+        mse_new = conditioned(J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
         if mse_old - mse_new <= cfg.rechoose_share * cond.torque_noise ** 2:
             break
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
@@ -389,9 +388,9 @@ def _split(rec, cond, unresolved, cfg) -> Split:
     # of acceleration (an excitation periodic in five blocks) away from the fit
     events = [keep & (since == 0),
               M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
-    phase = M.validation_phase(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)
+    worst, held = M.phases_holding_events(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)
+    phase = M.phase_off_events(worst, held)
     val = M.validation_mask(blocks, phase=phase) & keep
-    held = M.phases_holding_events(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)[1]
     folds = tuple(j for j, h in enumerate(held) if not h or j == phase)
     cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
     w = ((~val) & keep).astype(float)
