@@ -58,6 +58,25 @@ def _val_rmse(r, val):
     return float(np.sqrt(np.mean(r[val] ** 2)))
 
 
+def _held_ms_bound(r, val, blocks) -> float:
+    """Upper bound (two standard errors) of the mean square of ``r`` over the held-out samples: the
+    standard error from the variance of r^2 and r^2's own long-run factor over the time blocks (a
+    residual whose size changes along the motion, as it does at rest, has r^2 far from the Gaussian
+    2*sigma^4 variance, and r^2 is less correlated than r). A size that changes from block to block
+    counts as spread, so the bound is then conservative (the test beside it)."""
+    e2 = np.asarray(r, float)[val] ** 2
+    if e2.size < 2:
+        return float(np.mean(e2)) if e2.size else 0.0
+    b = np.asarray(blocks)[val]
+    if np.var(e2) <= 0:
+        kappa = 1.0
+    elif np.unique(b).size < 2:
+        kappa = float(e2.size)  # one block: its samples count as one
+    else:
+        kappa = L.long_run_variance_factor(e2, b)
+    return float(np.mean(e2) + 2.0 * np.sqrt(np.var(e2) * kappa / e2.size))
+
+
 def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_phase, folds, max_steps) -> np.ndarray:
     """Residual of ``model`` (fitted without the held-out phase ``fixed_phase``) on the resolved
     samples of the block phases ``folds``, each predicted by a fit that did not see it: the model
@@ -482,10 +501,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
     # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
     # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
-    n_val = max(int(split.val.sum()), 1)
-    kappa0 = L.long_run_variance_factor(r0, split.blocks)
-    held = _val_rmse(r0, split.val) * (1.0 + 2.0 / np.sqrt(2.0 * n_val / max(kappa0, 1.0)))
-    room = max(held ** 2 - cond.torque_noise ** 2, 0.0)
+    room = max(_held_ms_bound(r0, split.val, split.blocks) - cond.torque_noise ** 2, 0.0)
     if kin_noise > 0 and kin_noise ** 2 > room:
         scale = float(np.sqrt(room) / kin_noise)
         null = dataclasses.replace(null, kinematic_scale=scale)
