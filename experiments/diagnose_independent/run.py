@@ -2378,6 +2378,60 @@ def calib32pid_settings(n: int = 36):
                             18500, n, loops=("pid", "pid"), nff=1, plant_k=2, fs_k=2, tn_rule=(1, 5))
 
 
+# calib33 and fresh31: the design of the floor's cap from r^2's own variance (issue #30); three
+# plants no earlier set used
+SCRAWNY = T.Plant(J=0.12, Fc=0.70, Fs=1.05, vs=0.055, sigma2=1.10, sigma0=190.0, sigma1=1.15)
+HARDY = T.Plant(J=0.24, Fc=1.05, Fs=1.50, vs=0.060, sigma2=1.40, sigma0=240.0, sigma1=1.75)
+ROTUND = T.Plant(J=0.33, Fc=1.45, Fs=1.95, vs=0.068, sigma2=1.65, sigma0=285.0, sigma1=2.30)
+_add_plants({"scrawny": (SCRAWNY, T.VelocityPIController(kp=5.5, ki=32.0)),
+             "hardy": (HARDY, T.VelocityPIController(kp=13.0, ki=78.0)),
+             "rotund": (ROTUND, T.VelocityPIController(kp=22.0, ki=132.0))},
+            {"scrawny": T.PositionPIDController.tuned(0.12, 3.2, tf=0.002),
+             "hardy": T.PositionPIDController.tuned(0.24, 2.9, tf=0.003),
+             "rotund": T.PositionPIDController.tuned(0.33, 2.7, tf=0.005)})
+
+CALIB33_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.044, 0.16, 0.57, 1.6, 3.45), "dwell": 3.0 if i % 2 else 3.3,
+                            "transition": 0.33, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.0 + 0.45 * (i % 3), "f0": 0.05, "f1": 1.4, "duration": 36.0,
+                             "bias": 0.55 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.5 * (i % 2), "f0": 0.048, "f1": 1.2 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 36.0},
+    "position_sine": lambda i: {"amplitude": 2.4 + 2.2 * (i % 3), "frequency": 0.17 + 0.04 * (i % 2),
+                                "duration": 33.5},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.2, 2.0, -2.4, 2.1) if i % 2 else (-2.1, 2.3, -2.0, 2.4, -1.8, 1.7),
+                                 "move_time": 1.3 + 0.4 * (i % 2), "dwell": 2.5, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.052, 0.2, 0.66, 1.7, 3.5), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib33_settings(n: int = 40):
+    """A thirty-third effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops (the position PID without feedforward in
+    every fourth row) x the three sensor sets, on three plants no earlier set used (SCRAWNY, HARDY,
+    ROTUND), 250-840 Hz, torque noise 0.058-0.077 N*m, white in half the rows and AR(1) of
+    coefficient 0.55 or 0.8 in the other half, velocity noise 0.0033-0.005 deg/s, quantisation
+    0.0005-0.001 deg; seeds 19100 + i."""
+    return _effect_free_set("calib33", CALIB33_EXCITATIONS, ["scrawny", "hardy", "rotund"],
+                            [(True, True), (True, False), (False, True)], [250.0, 520.0, 840.0, 360.0, 680.0],
+                            [0.058, 0.069, 0.077], [0.0, 0.55, 0.0, 0.8], [0.0033, 0.005], [0.0005, 0.001],
+                            19100, n, loops=("pid", "pi"), nff=2, plant_k=1, fs_k=3, tn_rule=(2, 7))
+
+
+_F31_FS = {"a": 290.0, "b": 445.0, "c": 270.0, "d": 505.0, "e": 320.0, "f": 395.0, "g": 350.0, "h": 295.0,
+           "i": 385.0}
+_F31_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 2.2},
+               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+               "position_ripple": lambda kw: kw | {"period": 1.07 * kw["period"], "phase": kw["phase"] - 1.1}}
+
+
+def fresh31_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 270-505 Hz (by recipe), seeds 19200 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh31", _F31_FS, _F31_VARIED, 19200)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2408,6 +2462,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib30": calib30_settings, "outside9": outside9_settings,
             "calib31": calib31_settings, "fresh30": fresh30_settings, "calib31cells": calib31_cells_settings,
             "calib30cells": calib30_cells_settings, "calib32pid": calib32pid_settings,
+            "calib33": calib33_settings, "fresh31": fresh31_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2583,7 +2638,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
-               "calib31cells", "calib30cells", "calib32pid")
+               "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31")
 
 
 def main():
