@@ -652,3 +652,44 @@ def test_held_out_mean_square_bound_has_its_monte_carlo_spread_and_level(rest_sc
     else:
         assert 1.5 < spread < 3.5
     assert np.mean(true_ms > bound) <= 0.06
+
+
+def test_noise_fit_start_and_plausibility_settings_reach_their_use():
+    """The torque-noise estimate's, the fit starts' and the gravity's settings are DiagnoseConfig's:
+    each changes what it governs when varied, and a meaningless value is refused by name."""
+    import types
+
+    from lugre_jax.diagnose import DiagnoseConfig, Gravity, make_recording
+    from lugre_jax.diagnose._condition import torque_noise_model
+    from lugre_jax.diagnose._model import initial_baselines
+    from scipy.signal import lfilter
+
+    # an AR(1) noise of coefficient 0.7 is read as coloured at the default chi-square, white when
+    # the colour must beat white noise by more than any profile can
+    rng = np.random.default_rng(4)
+    x = lfilter([np.sqrt(1 - 0.7 ** 2)], [1.0, -0.7], 0.1 * rng.standard_normal(40_000))
+    assert torque_noise_model(x)[1] > 0.5
+    assert torque_noise_model(x, colour_chi2=1e12)[1] == 0.0
+    # the grid of further starts: 13 humps x 6 pre-sliding lengths by default, 2 x 1 when narrowed
+    rec, _ = make_recording(seed=1, effect=None, duration=20.0)
+    assert len(initial_baselines(rec)[1]) == 78
+    narrow = DiagnoseConfig(far_presliding_over_p=(1e-3,), far_fs_over_fc=(1.5,), far_vs_over_v=(0.01,))
+    assert len(initial_baselines(rec, cfg=narrow)[1]) == 2
+    # a gravity that varies by 10 % of its mean over the positions is a load at the default 5 %,
+    # a constant torque when 20 % is asked
+    pos = np.linspace(0.0, 40.0, 200)  # deg: the sine between 90 and 130 deg of phase
+    g = Gravity(amplitude=1.0, phase=np.pi / 2)
+    ctx = types.SimpleNamespace(scales={"P": 40.0, "T": 2.0}, rec=types.SimpleNamespace(position=pos),
+                                config=DiagnoseConfig())
+    G = np.sin(np.deg2rad(pos) + np.pi / 2)
+    assert 0.05 < G.std() / abs(G.mean()) < 0.2
+    assert g.implausible(ctx) is None
+    assert "a constant torque" in g.implausible(types.SimpleNamespace(**{**vars(ctx), "config": DiagnoseConfig(
+        gravity_min_variation=0.2)}))
+    for kw, msg in (({"colour_chi2": -1.0}, "colour_chi2: expected"), ({"outlier_std": 0.0}, "outlier_std: expected"),
+                    ({"big_acceleration": float("nan")}, "big_acceleration: expected"),
+                    ({"shape_bands": 1}, "shape_bands: expected at least 2"),
+                    ({"far_fs_over_fc": (1.5, -1.0)}, "far_fs_over_fc: expected a tuple"),
+                    ({"gravity_min_variation": -0.1}, "gravity_min_variation: expected")):
+        with pytest.raises(ValueError, match=msg):
+            DiagnoseConfig(**kw)

@@ -95,7 +95,7 @@ def test_torque_noise_through_a_prediction_leaves_the_signal_out():
     assert abs(s1 / true - 1) < 0.07 and phi > 0.4
     prep, _ = S._prepare(g.to_recording(), DiagnoseConfig(), None, "lugre", False)
     assert prep.cond.torque_noise > 1.15 * true
-    refined = S._noise(prep, np.asarray(M.predict(prep.base, prep.kin), float), DiagnoseConfig().resolved_share)
+    refined = S._noise(prep, np.asarray(M.predict(prep.base, prep.kin), float), DiagnoseConfig())
     assert abs(refined.cond.torque_noise / true - 1) < 0.07
     assert refined.info["torque_noise_before_fit"]["std_nm"] == prep.cond.torque_noise
 

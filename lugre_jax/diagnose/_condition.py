@@ -32,16 +32,12 @@ def hf_noise_std(x) -> float:
     return _mad_std(d) / float(np.sqrt(20.0))
 
 
-# a lag-k third difference further than this many robust stds from the median is signal (a Gaussian
-# noise puts 6e-5 of its mass there)
-OUTLIER_STD = 4.0
-
-
 def _third_difference(x, k: int) -> np.ndarray:
     return x[:-3 * k] - 3 * x[k:-2 * k] + 3 * x[2 * k:-k] - x[3 * k:]
 
 
-def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0) -> float:
+def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0,
+                          outlier_std: float = DiagnoseConfig.outlier_std) -> float:
     d = _third_difference(x, k)
     ok = np.ones(d.size, bool)
     if jumps is not None:
@@ -62,7 +58,7 @@ def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0
     # noise look coloured and the floor too high
     for _ in range(3):
         s = _mad_std(d)
-        ok = np.abs(d - np.median(d)) <= OUTLIER_STD * s
+        ok = np.abs(d - np.median(d)) <= outlier_std * s
         if s <= 0 or ok.all() or ok.sum() < max(10, d.size // 2):
             break
         d = d[ok]
@@ -70,7 +66,7 @@ def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0
 
 
 def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | None = 6.0, signal=None,
-                  limit: float = 0.0):
+                  limit: float = 0.0, outlier_std: float = DiagnoseConfig.outlier_std):
     """(lags, std, se): the third-difference noise estimate at lags of k samples
     (``x[i] - 3x[i+k] + 3x[i+2k] - x[i+3k]``, robust MAD; lags 1, 2, 3, 4, 6, 8, ... up to
     ``max_lag`` and a twelfth of a segment) and its standard error (spread over
@@ -78,7 +74,9 @@ def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | No
     over m samples (an averaged or low-passed sensor) is partly cancelled by the difference at lags
     below m, so the estimate rises to the noise's full std there; a smooth signal adds a part
     growing as k^3. ``signal``: a prediction of the signal in ``x``; the differences it reaches past
-    ``limit`` are left out (:func:`refined_torque_noise`)."""
+    ``limit`` are left out (:func:`refined_torque_noise`). ``outlier_std``: a difference further than
+    this many robust stds from the median at its lag is left out as signal
+    (:attr:`DiagnoseConfig.outlier_std`)."""
     x = np.asarray(x, float)
     sig = None if signal is None else np.asarray(signal, float)
     seg = x.size // segments
@@ -95,9 +93,9 @@ def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | No
         if k > max_lag or 3 * k > seg // 4:
             break
         lags.append(k)
-        sd.append(_third_difference_std(x, k, jumps, sig, limit))
+        sd.append(_third_difference_std(x, k, jumps, sig, limit, outlier_std))
         parts = [_third_difference_std(x[i * seg:(i + 1) * seg], k, jumps[i * seg:(i + 1) * seg],
-                                       None if sig is None else sig[i * seg:(i + 1) * seg], limit)
+                                       None if sig is None else sig[i * seg:(i + 1) * seg], limit, outlier_std)
                  for i in range(segments)]
         se.append(float(np.std(parts, ddof=1)) / np.sqrt(segments))
     return np.array(lags, int), np.array(sd, float), np.array(se, float)
@@ -108,12 +106,8 @@ def _third_difference_gain(k, phi):
     return 1.0 - (30.0 * phi ** k - 12.0 * phi ** (2 * k) + 2.0 * phi ** (3 * k)) / 20.0
 
 
-# colour is claimed when the AR(1) noise profile fits the lags better than white noise by this much
-# (chi-square units: a four-standard-error improvement)
-COLOUR_CHI2 = 16.0
-
-
-def torque_noise_std(x, jump_std: float | None = 6.0, profile=None) -> tuple[float, float]:
+def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
+                     colour_chi2: float = DiagnoseConfig.colour_chi2) -> tuple[float, float]:
     """(std, phi): the per-sample noise std of ``x`` seen through its colour, and the AR(1)
     coefficient of that colour (0: white, the estimate is then :func:`hf_noise_std`).
 
@@ -121,7 +115,8 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None) -> tuple[flo
     ``sigma^2*g(k, phi) + c*k^6``: a first-order low-passed (AR(1)) noise, whose lag-k third
     difference has variance ``20*sigma^2*g`` (g rises from 1 - 0.9*phi to 1 as k passes the
     correlation length), plus a smooth signal's part. Colour is claimed only when the best phi
-    beats phi = 0 by :data:`COLOUR_CHI2`; a drive's averaged torque (TRO2021) is such a noise.
+    beats phi = 0 by ``colour_chi2`` (:attr:`DiagnoseConfig.colour_chi2`); a drive's averaged torque
+    (TRO2021) is such a noise.
     ``profile``: the :func:`noise_profile` of ``x`` if already computed (with ``jump_std``)."""
     from scipy.optimize import nnls
 
@@ -146,7 +141,7 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None) -> tuple[flo
     if not phis:
         return white, 0.0
     best = min((fit(phi) + (phi,) for phi in phis), key=lambda r: r[0])
-    if chi0 - best[0] < COLOUR_CHI2 or best[1] <= white ** 2:
+    if chi0 - best[0] < colour_chi2 or best[1] <= white ** 2:
         return white, 0.0
     return float(np.sqrt(best[1])), float(best[2])
 
@@ -159,18 +154,20 @@ def noise_estimate_open(x, std: float, profile=None) -> bool:
     return bool(prof.size >= 3 and prof[-1] - 3.0 * se[-1] > 1.1 * std)
 
 
-def torque_noise_model(torque, profile=None) -> tuple[float, float, bool]:
+def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseConfig.colour_chi2,
+                       outlier_std: float = DiagnoseConfig.outlier_std) -> tuple[float, float, bool]:
     """(std, phi, open) of the torque channel from its :func:`noise_profile` (computed when not
     given): :func:`torque_noise_std`, and :func:`noise_estimate_open` only where colour was claimed
     (a white estimate is read at lag 1, where the signal is absent, and the longest lags of a white
     recording hold the signal, so the flag would fire on white noise too)."""
-    profile = noise_profile(torque) if profile is None else profile
-    st, phi = torque_noise_std(torque, profile=profile)
+    profile = noise_profile(torque, outlier_std=outlier_std) if profile is None else profile
+    st, phi = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2)
     return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
 
 
-def refined_torque_noise(torque, prediction, std: float,
-                         share: float = DiagnoseConfig.resolved_share) -> tuple[float, float, bool]:
+def refined_torque_noise(torque, prediction, std: float, share: float = DiagnoseConfig.resolved_share, *,
+                         colour_chi2: float = DiagnoseConfig.colour_chi2,
+                         outlier_std: float = DiagnoseConfig.outlier_std) -> tuple[float, float, bool]:
     """:func:`torque_noise_model` again, with the lag-k third differences left out where the fitted
     model's ``prediction`` of the torque has its own lag-k third difference above
     ``share`` of the noise's (``std``, the first estimate): there the signal, not the
@@ -178,7 +175,8 @@ def refined_torque_noise(torque, prediction, std: float,
     motion's fast changes too (a coloured noise at a low rate, where few lags span the correlation,
     reads high by that)."""
     limit = share * float(np.sqrt(20.0)) * std
-    return torque_noise_model(torque, noise_profile(torque, signal=prediction, limit=limit))
+    profile = noise_profile(torque, signal=prediction, limit=limit, outlier_std=outlier_std)
+    return torque_noise_model(torque, profile, colour_chi2=colour_chi2)
 
 
 def quantisation_step(x) -> float:
@@ -324,7 +322,7 @@ NOISE_FREE_SHARE = 1e-7
 
 
 def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False,
-              resolved_share: float = DiagnoseConfig.resolved_share):
+              cfg: DiagnoseConfig | None = None):
     """Choose and condition the kinematics of ``rec``; returns (conditioned recording,
     Conditioning, unresolved mask); with ``error_only``, the chosen window's estimated squared
     torque error (below) only. ``choices``: (source, W, order) triples to choose from (default: every
@@ -343,8 +341,11 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     one with more resolved samples per unit of the linear inverse model's mean squared residual
     (on the samples both resolve) is used.
 
+    ``cfg``: the diagnosis's settings (the torque-noise estimate's ``colour_chi2`` and
+    ``outlier_std``, ``resolved_share``; default :class:`DiagnoseConfig`).
+
     Unresolved samples: where the per-sample smoothing-bias bound exceeds
-    ``resolved_share`` of the torque noise (widened by the window), and, with a velocity column,
+    ``cfg.resolved_share`` of the torque noise (widened by the window), and, with a velocity column,
     sharp transients the sampling cannot resolve (:func:`unresolved_transients`).
     """
     from ..io import Recording
@@ -353,7 +354,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     dt = float(np.median(np.diff(t)))
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
-    st, st_phi, st_open = torque_noise_model(rec.torque)
+    cfg = DiagnoseConfig() if cfg is None else cfg
+    st, st_phi, st_open = torque_noise_model(rec.torque, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
@@ -410,7 +412,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
     # difference is mostly noise, which the floor's errors-in-variables part already counts
     significant = np.abs(a - a2) > 3.0 * sig_d
-    bad = maximum_filter1d(((bias_nm > resolved_share * st) & significant).astype(np.int8), W) > 0
+    bad = maximum_filter1d(((bias_nm > cfg.resolved_share * st) & significant).astype(np.int8), W) > 0
     if vel_meas:
         bad |= sharp
     if source == "position" and q > 0:

@@ -95,6 +95,29 @@ class DiagnoseConfig:
     - ``bristle_memory_share`` (0.1): after a transient the velocity-only path cannot follow, samples
       are left out until the wrong bristle state it leaves can bring at most this share of the
       torque noise (the bias then adds 1 % to the noise variance, a tenth of what the floor resolves).
+    - ``outlier_std`` (4.0): in the torque-noise profile, a lag-k third difference further than this many
+      robust stds from its lag's median is left out as signal (a fast but resolved change, as the
+      friction's rise through a reversal; a Gaussian noise puts 6e-5 of its mass there).
+    - ``colour_chi2`` (16.0): the torque noise is read as coloured (AR(1)) only when that profile
+      fits the lags better than white noise by this chi-square (a four-standard-error improvement:
+      a white noise read as coloured puts the floor too high).
+    - ``big_acceleration`` (0.2): accelerations above this share of the recording's acceleration
+      scale identify the inertia (its start in the fit) and, as events, must stay in the fit (the
+      held-out phase's event rule); below it the inertial torque is within a few noise std of the
+      friction's and the least squares for J is dominated by the friction model's error.
+    - ``far_presliding_over_p`` (1e-4 ... 3e-2), ``far_fs_over_fc`` (1.0001, 1.5, 2.5) and
+      ``far_vs_over_v`` (0.003 ... 0.1): the grid of further fit starts, independent of the measured
+      values. Where the data cannot give sigma0 or the Stribeck hump (a stiff position loop, a
+      differentiated encoder, steps instead of reversals, no constant-speed stretch) the fit
+      otherwise settles in a static-friction basin (sigma0 -> 1e5) or a humpless one; the grid spans
+      pre-sliding lengths max(Fs, Fc)/sigma0 over four decades of the position span P, and Stribeck
+      humps up to 2.5 Fc over 1.5 decades of the speed scale V.
+    - ``shape_bands`` (10): at most this many log-speed bands of the friction-shape test, each at
+      least a factor 1.5 wide (a Stribeck fall spans about a decade of speed; more bands cost each
+      band's mean its samples).
+    - ``gravity_min_variation`` (0.05): a fitted gravity must vary over the recording's positions by
+      at least this share of its mean torque (a constant offset fitted as a gravity varies far less,
+      a load far more); below it the angle dependence is not shown.
     - ``rechoose_share`` (0.05): the conditioning window is chosen again for the fitted inertia
       when that lowers the kinematic torque error by more than this share of the torque noise
       variance (the floor would change by ~2.5 %).
@@ -118,6 +141,14 @@ class DiagnoseConfig:
     max_event_share: float = 0.6
     event_alpha: float = 1e-3
     rechoose_share: float = 0.05
+    outlier_std: float = 4.0
+    colour_chi2: float = 16.0
+    big_acceleration: float = 0.2
+    far_presliding_over_p: tuple = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
+    far_fs_over_fc: tuple = (1.0001, 1.5, 2.5)
+    far_vs_over_v: tuple = (0.003, 0.01, 0.03, 0.1)
+    shape_bands: int = 10
+    gravity_min_variation: float = 0.05
     bristle_memory_share: float = 0.1
 
     def __post_init__(self):
@@ -132,7 +163,9 @@ class DiagnoseConfig:
         if self.kinematic_draws < 1:
             raise ValueError(f"DiagnoseConfig.kinematic_draws: expected at least 1, got {self.kinematic_draws}")
         for name, lo, hi in (("resolved_share", 0.0, math.inf), ("max_event_share", 0.0, 1.0),
-                             ("event_alpha", 0.0, 1.0)):
+                             ("event_alpha", 0.0, 1.0), ("outlier_std", 0.0, math.inf),
+                             ("colour_chi2", 0.0, math.inf), ("big_acceleration", 0.0, math.inf),
+                             ("gravity_min_variation", 0.0, math.inf)):
             x = getattr(self, name)
             if not lo < x < hi:
                 raise ValueError(f"DiagnoseConfig.{name}: expected a number in ({lo:g}, {hi:g}), got {x}")
@@ -140,6 +173,12 @@ class DiagnoseConfig:
             x = getattr(self, name)
             if not (math.isfinite(x) and x >= 0):
                 raise ValueError(f"DiagnoseConfig.{name}: expected a share of the noise floor >= 0, got {x}")
+        if self.shape_bands < 2:
+            raise ValueError(f"DiagnoseConfig.shape_bands: expected at least 2, got {self.shape_bands}")
+        for name in ("far_presliding_over_p", "far_fs_over_fc", "far_vs_over_v"):
+            x = getattr(self, name)
+            if not (isinstance(x, tuple) and all(math.isfinite(q) and q > 0 for q in x)):
+                raise ValueError(f"DiagnoseConfig.{name}: expected a tuple of positive numbers, got {x!r}")
         if self.block_s is not None and not self.block_s > 0:
             raise ValueError(f"DiagnoseConfig.block_s: expected a positive time, got {self.block_s}")
 

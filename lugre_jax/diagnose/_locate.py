@@ -35,7 +35,6 @@ from ._config import DiagnoseConfig
 
 BACKGROUND_DOF = 0.3  # degrees of freedom per neighbour of the time periodogram's median background
 MIN_PERIODS = 10  # a time-periodic line needs this many periods in the recording
-SHAPE_BANDS = 10  # at most this many log-speed bands, each at least a factor 1.5 wide
 
 
 def holm(p: np.ndarray) -> np.ndarray:
@@ -129,7 +128,8 @@ def _extra_array(known, key: str, like: np.ndarray) -> np.ndarray:
     return np.zeros_like(like, dtype=float) if x is None else np.asarray(x, float)
 
 
-def _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution: float) -> list[dict]:
+def _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution: float,
+                 shape_bands: int = DiagnoseConfig.shape_bands) -> list[dict]:
     """The ``friction_shape`` tests (see ``binned_tests``): one per log-speed band, or none where
     the bands are too few to tell a shape from the baseline's own static shapes."""
     v = np.asarray(rec.velocity, float)
@@ -145,7 +145,7 @@ def _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution: floa
     lo_, hi_ = np.quantile(lv, [0.01, 0.99])
     if hi_ - lo_ <= np.log(2.0):
         return []
-    n_b = int(min(SHAPE_BANDS, max(2, np.ceil((hi_ - lo_) / np.log(1.5)))))
+    n_b = int(min(shape_bands, max(2, np.ceil((hi_ - lo_) / np.log(1.5)))))
     be = np.exp(np.linspace(lo_, hi_, n_b + 1))
     be[0], be[-1] = 0.0, np.inf
     rs = r * sv
@@ -178,8 +178,10 @@ def _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution: floa
 
 
 def binned_tests(rec, r, blocks, scales, known=None, resolution: float = DiagnoseConfig.resolution,
-                 shape_resolution: float = DiagnoseConfig.shape_resolution) -> list[dict]:
-    """The binned-mean tests; ``resolution`` and ``shape_resolution``: :class:`DiagnoseConfig`'s."""
+                 shape_resolution: float = DiagnoseConfig.shape_resolution,
+                 shape_bands: int = DiagnoseConfig.shape_bands) -> list[dict]:
+    """The binned-mean tests; ``resolution``, ``shape_resolution`` and ``shape_bands``:
+    :class:`DiagnoseConfig`'s."""
     known = dict(rec.extra) if known is None else known
     t, th, v, a = (np.asarray(x) for x in (rec.time, rec.position, rec.velocity, rec.acceleration))
     V, A = scales["V"], scales["A"]
@@ -215,7 +217,7 @@ def binned_tests(rec, r, blocks, scales, known=None, resolution: float = Diagnos
     # by noisy transients leaves a shape of that kind on the precise plateaus, and it is not missing
     # physics. Each band's margin is its own expected errors-in-variables mean (from the perturbed
     # kinematics, see diagnose), the conditioning bias, and ``shape_resolution`` of the noise
-    out += _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution)
+    out += _shape_bands(rec, r, blocks, moving, u, noise, known, shape_resolution, shape_bands)
     # position bins
     pe = np.unique(np.quantile(th, np.linspace(0, 1, 13)))
     for lo, hi in zip(pe[:-1], pe[1:]):
@@ -527,7 +529,8 @@ def ljung_box(r, m: int = 20, min_lag: int = 1, margin: float = 0.0):
 
 def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, keep=None,
            friction=None, known: dict | None = None, null=None, resolution: float = DiagnoseConfig.resolution,
-           shape_resolution: float = DiagnoseConfig.shape_resolution) -> dict:
+           shape_resolution: float = DiagnoseConfig.shape_resolution,
+           shape_bands: int = DiagnoseConfig.shape_bands) -> dict:
     """Run every test on residual ``r`` and Holm-correct them jointly; see the module docstring.
 
     ``filter_lags``: the memory (in samples) of the filter that conditioned the kinematics; the
@@ -551,7 +554,7 @@ def locate(rec, r, blocks, scales, alpha: float = 0.05, filter_lags: int = 0, ke
     r = np.asarray(r, float)
     keep = np.ones(r.shape, bool) if keep is None else np.asarray(keep, bool)
     kappa = long_run_variance_factor(r, blocks)
-    tests = binned_tests(rec, r, blocks, scales, known, resolution, shape_resolution)
+    tests = binned_tests(rec, r, blocks, scales, known, resolution, shape_resolution, shape_bands)
     pp = position_periodogram(rec.position, r, kappa)
     tests.append({"test": "position_periodic", "region": {"period": pp["period"], "unit": rec.units["position"]},
                   "statistic": pp["statistic"], "p_value": pp["p_value"], "m_eff": pp["m_eff"]})

@@ -45,6 +45,7 @@ from ..friction import (AbstractFrictionModel, CoulombViscous, LuGre, Stribeck, 
                         stribeck_curve)
 from .._results import RESULTS, promote, result_name
 from .._types import Array, Float
+from ._config import DiagnoseConfig
 
 
 class Kinematics(eqx.Module):
@@ -94,7 +95,8 @@ class Context:
     first; ``time_peak_hz``: its time periodogram's strongest ordinate; ``friction_torque`` and
     ``inertial_torque``: the current model's parts per sample; ``n_reversals``; ``to_rad``: the
     position unit in radians; ``position_resolution``: encoder step or position noise;
-    ``accel_bandwidth_hz``: bandwidth of the conditioned acceleration."""
+    ``accel_bandwidth_hz``: bandwidth of the conditioned acceleration; ``config``: the diagnosis's
+    settings (:class:`DiagnoseConfig`)."""
 
     rec: object
     kin: "Kinematics"
@@ -109,6 +111,7 @@ class Context:
     to_rad: float
     position_resolution: float = 0.0
     accel_bandwidth_hz: float = float("inf")
+    config: DiagnoseConfig = dataclasses.field(default_factory=DiagnoseConfig)
 
     @property
     def units(self) -> dict:
@@ -524,10 +527,6 @@ def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25)
 
 
 VALIDATION_EVERY, VALIDATION_PHASE = 5, 2
-# accelerations that identify the inertia (and, as events, must stay in the fit): above this share
-# of the recording's acceleration scale
-BIG_ACCELERATION = 0.2
-
 
 def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: int = VALIDATION_PHASE) -> np.ndarray:
     """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost),
@@ -707,15 +706,13 @@ def static_curve_fit(rec, noise: float, fit_offset: bool):
 # Stribeck hump. From there the fit settles in a static-friction basin (sigma0 -> 1e5) or a humpless
 # one. So a grid of further starts spans those decades, independent of the measured values: pre-sliding
 # lengths max(Fs, Fc)/sigma0 at these shares of the position span P, and Fs at these multiples of Fc
-# at these shares of the speed scale V (beside the data's own Fs and vs); the fit takes those that
-# start best (:func:`~._select.fit_baseline`).
-FAR_PRESLIDING_OVER_P = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
-FAR_FS_OVER_FC = (1.0001, 1.5, 2.5)
-FAR_VS_OVER_V = (0.003, 0.01, 0.03, 0.1)
+# at these shares of the speed scale V (beside the data's own Fs and vs: DiagnoseConfig's far_*);
+# the fit takes those that start best (:func:`~._select.fit_baseline`).
 
 
 def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, noise: float = 0.0,
-                      rough: JointModel | None = None) -> tuple[list[JointModel], list[JointModel]]:
+                      rough: JointModel | None = None,
+                      cfg: DiagnoseConfig | None = None) -> tuple[list[JointModel], list[JointModel]]:
     """Starting baselines (multi-start): ``(from the data, the grid of further starts)``.
 
     Fc, Fs, vs, sigma2 (and the offset) from the steady-state friction curve of the constant-speed
@@ -723,9 +720,11 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
     :func:`initial_baseline`; J by least squares of the torque left after the static curve against
     the acceleration; sigma0 from the pre-sliding displacement at reversals (Fs over the position
     travelled while the torque reverses), tried at x1/3, x1, x3; sigma1 for a bristle damping ratio
-    of 0.5 and 0.1. The further starts: the grid ``FAR_*`` around the same J, Fc, sigma2 and offset
-    (damping ratio 0.5); none for another friction model.
+    of 0.5 and 0.1. The further starts: the grid ``cfg.far_*`` around the same J, Fc, sigma2 and
+    offset (damping ratio 0.5); none for another friction model. J's accelerations: above
+    ``cfg.big_acceleration`` of the acceleration scale (``cfg``: default :class:`DiagnoseConfig`).
     """
+    cfg = DiagnoseConfig() if cfg is None else cfg
     rough = rough if rough is not None else initial_baseline(rec, friction, fit_offset)
     if friction != "lugre":
         return [rough], []
@@ -740,7 +739,7 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
                                float(rough.offset))
     vs = float(np.clip(vs, 2e-4 * sc["V"], 0.9 * sc["V"]))
     rest = y - _stribeck_curve(v, Fc, max(Fs, Fc), vs, s2, off)
-    big = np.abs(a) > BIG_ACCELERATION * sc["A"]
+    big = np.abs(a) > cfg.big_acceleration * sc["A"]
     J = float(np.dot(a[big], rest[big]) / max(np.dot(a[big], a[big]), 1e-300)) if big.sum() > 20 else float(rough.J)
     if not J > 0:
         J = float(rough.J)
@@ -752,9 +751,9 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
                                                 sigma1=2 * zeta * np.sqrt(s0 * J), require_passive=False),
                           jnp.asarray(off))
 
-    humps = [(Fs, vs)] + [(k * Fc, q * sc["V"]) for k in FAR_FS_OVER_FC for q in FAR_VS_OVER_V]
+    humps = [(Fs, vs)] + [(k * Fc, q * sc["V"]) for k in cfg.far_fs_over_fc for q in cfg.far_vs_over_v]
     return ([start(Fs, vs, s0_data / k0, zeta) for k0 in (1.0, 1 / 3, 3.0) for zeta in (0.5, 0.1)],
-            [start(Fs_, vs_, max(Fs_, Fc) / (x * sc["P"]), 0.5) for Fs_, vs_ in humps for x in FAR_PRESLIDING_OVER_P])
+            [start(Fs_, vs_, max(Fs_, Fc) / (x * sc["P"]), 0.5) for Fs_, vs_ in humps for x in cfg.far_presliding_over_p])
 
 
 def presliding_length(friction) -> float:

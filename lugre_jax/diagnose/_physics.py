@@ -94,11 +94,6 @@ class PositionRipple(AbstractCandidate):
                 "units": {"amplitude": ctx.units["torque"], "period": ctx.units["position"]}}
 
 
-# a gravity must vary over the recording's positions by at least this share of its mean torque:
-# an offset fitted as a gravity varies far less, a load far more
-GRAVITY_MIN_VARIATION = 0.05
-
-
 class Gravity(AbstractCandidate):
     """Uncompensated gravity load G(theta) = A*sin(theta + phase), eq. (1) with G != 0."""
 
@@ -117,7 +112,7 @@ class Gravity(AbstractCandidate):
         if float(self.amplitude) > 2 * ctx.scales["T"]:
             return "amplitude above twice the largest measured torque"
         G = float(self.amplitude) * np.sin(np.asarray(ctx.rec.position) * float(self.to_rad) + float(self.phase))
-        if G.std() < GRAVITY_MIN_VARIATION * abs(G.mean()):
+        if G.std() < ctx.config.gravity_min_variation * abs(G.mean()):
             # where the joint spends its time the sine is flat: the fit is a constant torque, which
             # an offset or a direction asymmetry explains as well; the angle dependence is not shown
             return (f"over the recording's positions the fitted gravity varies by {G.std():.2g} around "

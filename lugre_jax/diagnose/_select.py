@@ -133,7 +133,7 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
 
 
 def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
-                 rough=None, screen_steps: int = 25, max_steps: int = 200, far_starts: int = 2):
+                 rough=None, screen_steps: int = 25, max_steps: int = 200, far_starts: int = 2, cfg=None):
     """Multi-start LM fit of the baseline; returns (model, info, index of the kinematics used).
 
     ``kins``: one or more candidate kinematics of the same recording (bristle paths); every start
@@ -142,12 +142,12 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     (``initial_baselines``' second list: sigma0 and the Stribeck hump decades away) whose training
     SSE is lowest before any step (a prediction each, no fit);
     each (start, kinematics) pair is run ``screen_steps`` LM steps, the best two by training SSE are
-    run to convergence.
+    run to convergence. ``cfg``: the settings of the starts (default :class:`DiagnoseConfig`).
     """
     if params is not None:
         return M.baseline_from_params(params), {"result": "given", "steps": 0, "starts": 0}, 0
     m0 = rough if rough is not None else M.initial_baseline(rec, friction, fit_offset)
-    starts, far = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0)
+    starts, far = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0, cfg=cfg)
     if isinstance(m0.friction, LuGre):
         starts.append(m0)
     else:
@@ -251,7 +251,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
                              smoothing_blend)
 
     def conditioned(J0, s2_0, **kw):
-        return condition(rec, J0, s2_0, resolved_share=cfg.resolved_share, **kw)
+        return condition(rec, J0, s2_0, cfg=cfg, **kw)
 
     rough = M.initial_baseline(rec, friction, fit_offset)
     crec, cond, unresolved = conditioned(float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
@@ -281,7 +281,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         w = split.w
         paths = _paths(rec, crec, cond)
         base, info, k_path = fit_baseline(crec, list(paths.values()), w, M.data_scales(crec), friction,
-                                          fit_offset, params, noise=cond.torque_noise)
+                                          fit_offset, params, noise=cond.torque_noise, cfg=cfg)
         if forget is not None and isinstance(base.friction, LuGre):
             # the measured pre-sliding length can be short of the bristles' (a fast reversal moves the
             # torque by inertia and by the controller too): with the fitted Fs/sigma0 the memory can
@@ -295,7 +295,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
                 split = _split(crec, cond, unresolved, cfg)
                 w = split.w
                 base, info, k_path = fit_baseline(crec, list(paths.values()), w, M.data_scales(crec), friction,
-                                                  fit_offset, params, noise=cond.torque_noise)
+                                                  fit_offset, params, noise=cond.torque_noise, cfg=cfg)
                 info["bristle_memory_refit"] = float(forget_fit)
         path = list(paths)[k_path]
         kin = paths[path]
@@ -331,7 +331,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         cond = blended(cond, blend, rec.dt)
         paths = _paths(rec, crec, cond)
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
-                                            fit_offset, params, noise=cond.torque_noise)
+                                            fit_offset, params, noise=cond.torque_noise, cfg=cfg)
         info = {**info, **info_b}
         path = list(paths)[k_path]
         kin = paths[path]
@@ -351,7 +351,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         unresolved = unresolved | smoothed
         split = split_smoothed
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
-                                            fit_offset, params, noise=cond.torque_noise)
+                                            fit_offset, params, noise=cond.torque_noise, cfg=cfg)
         info = {**info, **info_b, "model_bias_unresolved": int(smoothed.sum())}
         path = list(paths)[k_path]
         kin = paths[path]
@@ -406,7 +406,7 @@ def _split(rec, cond, unresolved, cfg) -> Split:
     # the held-out phase: the fixed one unless it would take most of the reversals or of the bursts
     # of acceleration (an excitation periodic in five blocks) away from the fit
     events = [keep & (since == 0),
-              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > M.BIG_ACCELERATION * scales["A"]))]
+              M.event_starts(keep & (np.abs(np.asarray(rec.acceleration)) > cfg.big_acceleration * scales["A"]))]
     worst, held = M.phases_holding_events(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)
     phase = M.phase_off_events(worst, held)
     val = M.validation_mask(blocks, phase=phase) & keep
@@ -454,7 +454,7 @@ def _predicted(prep: Prepared, split: Split, fit_offset, share: float) -> Split:
                                unpredicted=int(bad.sum()))
 
 
-def _noise(prep: Prepared, prediction: np.ndarray, share: float) -> Prepared:
+def _noise(prep: Prepared, prediction: np.ndarray, cfg) -> Prepared:
     """``prep`` with the torque noise estimated again through the fitted model
     (:func:`~._condition.refined_torque_noise`): the differences the model's torque sets are left out
     of the noise profile, so the motion's fast changes no longer read as colour. The estimate made
@@ -462,7 +462,8 @@ def _noise(prep: Prepared, prediction: np.ndarray, share: float) -> Prepared:
     from ._condition import refined_torque_noise
 
     c = prep.cond
-    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise, share)
+    st, phi, open_ = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise,
+                                          cfg.resolved_share, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
     cond = dataclasses.replace(c, torque_noise=st, torque_noise_colour=phi, torque_noise_open=open_)
     info = {**prep.info, "torque_noise_before_fit": {"std_nm": c.torque_noise, "colour": c.torque_noise_colour}}
     return dataclasses.replace(prep, cond=cond, info=info)
@@ -549,11 +550,11 @@ def _locate(prep, split, floor, cfg, model, r, filter_lags, at_floor: bool):
     draws = null_draws(model, prep.kin, floor.null, cfg.draws, cfg.seed + 2000)
     loc = L.locate(prep.rec, r, split.blocks, floor.scales, cfg.alpha_locate, filter_lags, split.keep,
                    _friction(model, prep.kin), known=floor.known, null=draws, resolution=cfg.resolution,
-                   shape_resolution=cfg.shape_resolution)
+                   shape_resolution=cfg.shape_resolution, shape_bands=cfg.shape_bands)
     return _mismatch(loc, at_floor)
 
 
-def _context(prep, split, floor, model, r, loc=None) -> M.Context:
+def _context(prep, split, floor, model, r, cfg, loc=None) -> M.Context:
     """The candidates' view of the current model and residual (periodogram peaks of ``r``)."""
     from ._condition import accel_bandwidth
 
@@ -571,7 +572,7 @@ def _context(prep, split, floor, model, r, loc=None) -> M.Context:
                      n_reversals=split.n_reversals,
                      to_rad=np.pi / 180 if rec.units.get("position") == "deg" else 1.0,
                      position_resolution=max(cond.quantisation, cond.position_noise),
-                     accel_bandwidth_hz=accel_bandwidth(cond, prep.rec.dt))
+                     accel_bandwidth_hz=accel_bandwidth(cond, prep.rec.dt), config=cfg)
 
 
 @dataclasses.dataclass
@@ -623,7 +624,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, r0):
     bar = tqdm(total=cfg.max_effects, desc="select", disable=not progress, leave=False)
     while len(accepted) < cfg.max_effects:
         names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
-        ctx = _context(prep, split, floor, current, r_cur)
+        ctx = _context(prep, split, floor, current, r_cur, cfg)
         specs_cur = _all_specs(current, scales, fit_offset, freeze_baseline=frozen)
         test = test_candidates(current, specs_cur, names, ctx, kin, split.rows,
                                floor.null, cfg.draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
@@ -766,7 +767,7 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     split = _predicted(prep, split, fit_offset, cfg.resolved_share)
     prediction = np.asarray(M.predict(prep.base, prep.kin), float)
     r0 = (np.asarray(prep.rec.torque) - prediction) * split.keep
-    prep = _noise(prep, prediction, cfg.resolved_share)
+    prep = _noise(prep, prediction, cfg)
     floor = _floor(prep, split, cfg, fit_offset, r0)
     flags = _filter_lags(prep)
     loc0 = _locate(prep, split, floor, cfg, prep.base, r0, flags, floor.ratio <= cfg.at_floor)
@@ -787,7 +788,7 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
     """What the residual left by the selection follows, from the term library (:mod:`._attribute`)."""
     from ._attribute import attribute
 
-    ctx = _context(prep, split, floor, model, r)
+    ctx = _context(prep, split, floor, model, r, cfg)
     window = _window(prep)
     return attribute(model, _all_specs(model, floor.scales, fit_offset, freeze_baseline=frozen), ctx, prep.kin, split.rows,
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
@@ -829,7 +830,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     located = tuple(Region.from_test(x) for x in loc0["located"])
     remaining = tuple(Region.from_test(x) for x in loc_cur["located"])
     # a finding's parameters are those of the final joint model; its evidence stays that of its step
-    ctx_final = _context(prep, split, floor, current, r_cur, loc_cur)
+    ctx_final = _context(prep, split, floor, current, r_cur, cfg, loc_cur)
     missing = [Finding(name=name, explanation=type(c).explanation, params=c.describe(ctx_final),
                        validation_rmse_nm=t["validation_rmse_nm"], delta_bic=t["delta_bic"],
                        p_validation=t["p_validation"], p_family=t["p_family"])
