@@ -348,10 +348,12 @@ def test_a_gravity_that_is_flat_over_the_positions_is_implausible():
 
     import jax.numpy as jnp
 
+    from lugre_jax.diagnose import DiagnoseConfig
     from lugre_jax.diagnose._physics import Gravity
 
     theta = np.concatenate([np.linspace(0.0, 39.6, 500), np.linspace(39.6, 0.0, 500)])  # the sine's crest
-    ctx = SimpleNamespace(scales={"P": float(np.ptp(theta)), "T": 5.0}, rec=SimpleNamespace(position=theta))
+    ctx = SimpleNamespace(scales={"P": float(np.ptp(theta)), "T": 5.0}, rec=SimpleNamespace(position=theta),
+                          config=DiagnoseConfig())
     flat = Gravity(jnp.asarray(0.062), jnp.asarray(1.23))
     why = flat.implausible(ctx)
     assert why is not None and "constant torque" in why, why

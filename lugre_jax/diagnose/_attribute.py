@@ -252,13 +252,19 @@ def _held_out(X, base, r, rows, val, blocks):
 class Attribution:
     """The terms found, in order: each group's name, labels, coefficients, units, reading, its
     family-wise p-value and gain; the held-out RMSE before and after the terms (least squares on the
-    training blocks); ``tests``: every step's per-group statistics."""
+    training blocks); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
+    term, every sample): the term's torque in the joint least squares of all terms with the model's
+    linearised refit on the training blocks, and the residual with that refit and the other terms
+    taken out (a partial residual: what the term is fitted to, which its coefficient alone against
+    the raw residual is not, since the refit takes part of its shape)."""
 
     terms: tuple
     validation_rmse_before_nm: float
     validation_rmse_after_nm: float
     tests: tuple
     columns: tuple = dataclasses.field(default=(), repr=False, compare=False)  # each term's regressors (n x k)
+    fits: tuple = dataclasses.field(default=(), repr=False, compare=False)
+    partials: tuple = dataclasses.field(default=(), repr=False, compare=False)
 
     @property
     def found(self) -> bool:
@@ -432,7 +438,23 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
                       "p_held_out_analytic": float(p_analytic), "held_out_share_nm": share})
         after = compared = new
-    return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen))
+    fits, partials = _partials(JB, [X for _, X in chosen], r, rows)
+    return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen), fits, partials)
+
+
+def _partials(JB, Xs, r, rows) -> tuple[tuple, tuple]:
+    """(fits, partial residuals) of the terms ``Xs`` fitted jointly with the refit columns ``JB`` on
+    the training ``rows`` (:class:`Attribution`)."""
+    if not Xs:
+        return (), ()
+    D = np.column_stack([JB] + list(Xs))
+    beta = np.linalg.lstsq(D[rows], r[rows], rcond=None)[0]
+    resid = r - D @ beta
+    fits, i = [], JB.shape[1]
+    for X in Xs:
+        fits.append(X @ beta[i:i + X.shape[1]])
+        i += X.shape[1]
+    return tuple(fits), tuple(resid + f for f in fits)
 
 
 def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,

@@ -207,7 +207,9 @@ class Conditioning:
     torque for the inertia used to choose the window; ``unresolved_fraction``: share of samples
     where the kinematics are not resolved at this smoothing (left out of fit, validation and tests);
     ``blend``: the acceleration is ``a_W + blend*(a_W - a_2W-1)``, the smoothing bias extrapolated
-    from the change between the windows W and 2W-1 (:func:`smoothing_blend`; 0: ``a_W`` alone).
+    from the change between the windows W and 2W-1 (:func:`smoothing_blend`; 0: ``a_W`` alone);
+    ``bias_nm``: the per-sample bound on the torque the smoothing can leave (:func:`condition`;
+    None for kinematics used as loaded), not part of :meth:`to_json`.
     """
 
     torque_noise: float
@@ -226,9 +228,10 @@ class Conditioning:
     position_measured: bool = True
     order: int = 3
     blend: float = 0.0
+    bias_nm: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
     def to_json(self) -> dict:
-        return dataclasses.asdict(self)
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "bias_nm"}
 
 
 def _gain(W, deriv, dt, order=3):
@@ -437,12 +440,10 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
         info = Conditioning(source="recording", window=1, accel_noise_torque=float(J0 * sig_a),
                             velocity_noise_after=float(sv), unresolved_fraction=float(sharp.mean()), **common)
         return rec, info, sharp
-    extra = dict(rec.extra)
-    extra["conditioning_bias_nm"] = bias_nm
-    out = Recording(t, th, v, a, np.asarray(rec.torque, float), rec.units,
-                    rec.source, extra, rec.meta)
+    out = Recording(t, th, v, a, np.asarray(rec.torque, float), rec.units, rec.source, dict(rec.extra), rec.meta)
     info = Conditioning(source=source, window=int(W), order=int(order), accel_noise_torque=float(J0 * sig_a),
-                        velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), **common)
+                        velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), bias_nm=bias_nm,
+                        **common)
     return out, info, bad
 
 

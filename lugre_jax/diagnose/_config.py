@@ -204,4 +204,5 @@ class DiagnoseConfig:
         return self.alpha / 3.0
 
     def to_json(self) -> dict:
-        return dataclasses.asdict(self) | {"null_draws": self.draws}
+        out = {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()}
+        return out | {"null_draws": self.draws}

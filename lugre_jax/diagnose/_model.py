@@ -699,15 +699,8 @@ def static_curve_fit(rec, noise: float, fit_offset: bool):
     return float(Fc), float(Fc + dF), float(np.exp(lvs)), float(max(s2, 0.0)), off, int(bv.size)
 
 
-# The data-driven starts can be far from the basin of the best fit: the pre-sliding displacement
-# measured at reversals (which sets sigma0) can be off by decades (a reversal driven by the
-# controller and the inertia, a differentiated encoder, steps instead of reversals), and without
-# constant-speed stretches (point to point) the static curve's least squares does not see the
-# Stribeck hump. From there the fit settles in a static-friction basin (sigma0 -> 1e5) or a humpless
-# one. So a grid of further starts spans those decades, independent of the measured values: pre-sliding
-# lengths max(Fs, Fc)/sigma0 at these shares of the position span P, and Fs at these multiples of Fc
-# at these shares of the speed scale V (beside the data's own Fs and vs: DiagnoseConfig's far_*);
-# the fit takes those that start best (:func:`~._select.fit_baseline`).
+# The data-driven starts can be decades from the best fit's basin; the grid of further starts that
+# spans those decades is DiagnoseConfig's far_* (where its reason is given).
 
 
 def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, noise: float = 0.0,

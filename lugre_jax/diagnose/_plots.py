@@ -151,35 +151,36 @@ def plot_report(report: Diagnosis, rec, outdir: str | os.PathLike) -> list[str]:
             written.append(str(outdir / f"effect_{c.id}.png"))
     terms = (report.attribution or {}).get("terms", [])
     if terms and arr.attribution_columns:
-        written.append(_plot_attribution(report, rec, r1, terms, arr.attribution_columns, outdir, plt))
+        written.append(_plot_attribution(report, rec, r1 != 0, terms, arr.attribution_columns,
+                                         arr.attribution_fits, arr.attribution_partials, outdir, plt))
     return written
 
 
-def _plot_attribution(report, rec, r, terms, columns, outdir, plt) -> str:
-    """Residual left by the selection against each attributed signal, binned, with the discovered
-    term (its fitted coefficients times the signal) drawn over it."""
+def _plot_attribution(report, rec, keep, terms, columns, fits, partials, outdir, plt) -> str:
+    """Each attributed term's partial residual (the residual left by the selection, less the model's
+    linearised refit and the other terms, all fitted jointly) against its signal, binned, with the
+    term's fitted torque drawn over it."""
     u = rec.units
     fig, axs = plt.subplots(1, len(terms), figsize=(5.5 * len(terms), 4), squeeze=False)
-    keep = r != 0
-    for ax, term, X in zip(axs[0], terms, columns):
-        X = np.asarray(X, float)
-        fit = X @ np.asarray(term["coefficients"], float)
+    for ax, term, X, fit, r in zip(axs[0], terms, columns, fits, partials):
+        X, fit, r = (np.asarray(z, float) for z in (X, fit, r))
+        coef = np.linalg.lstsq(X, fit, rcond=None)[0]  # the joint fit's coefficients
         if X.shape[1] == 1:
             x, xlabel = X[:, 0], f"{term['columns'][0]} [{_signal_unit(term, u)}]"
         else:  # a time line: against time
             x, xlabel = np.asarray(rec.time, float), f"time [{u['time']}]"
         edges = np.quantile(x[keep], np.linspace(0, 1, 31))
         c, m, sd = _binned(x[keep], r[keep], edges)
-        ax.plot(x[keep], r[keep], ",", color="0.75", label="residual (samples)")
+        ax.plot(x[keep], r[keep], ",", color="0.75", label="partial residual (samples)")
         ax.errorbar(c, m, sd, fmt="o", ms=3, color="C0", label="binned mean, 95% CI")
         o = np.argsort(x)
         ax.plot(x[o], fit[o], color="C3", lw=1.5,
-                label="discovered term: " + " + ".join(f"{b:.3g}*{lab}" for b, lab in
-                                                     zip(term["coefficients"], term["columns"])))
+                label="discovered term (joint fit): " + " + ".join(f"{b:.3g}*{lab}" for b, lab in
+                                                                  zip(coef, term["columns"])))
         ax.set_ylim(np.percentile(r[keep], [0.5, 99.5]) * 1.2)
         ax.axhline(0, color="k", lw=0.5)
         ax.set_xlabel(xlabel)
-        ax.set_ylabel(f"residual [{u['torque']}]")
+        ax.set_ylabel(f"partial residual [{u['torque']}]")
         ax.set_title(f"{term['signal']}: {term['reading'].split(':')[0]}", fontsize=9)
         ax.legend(fontsize=7, loc="upper left")
     a = report.attribution

@@ -184,6 +184,8 @@ class DiagnosisArrays:
     loc0: dict
     loc1: dict
     attribution_columns: tuple = ()  # each attributed term's regressors (n x k), in order
+    attribution_fits: tuple = ()  # each term's torque in the joint fit (Attribution.fits)
+    attribution_partials: tuple = ()  # the partial residual each term is fitted to (Attribution.partials)
 
 
 @dataclasses.dataclass(frozen=True)

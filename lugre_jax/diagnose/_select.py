@@ -481,7 +481,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     d = null.kinematic_errors(base, kin, centred=False)
     # the systematic part (the draws' mean) is what a correct model's residual keeps in expectation
     eiv_bias = np.where(split.keep, -d.mean(axis=0), 0.0)
-    known = {"conditioning_bias_nm": rec.extra.get("conditioning_bias_nm"), "eiv_bias_nm": eiv_bias,
+    known = {"conditioning_bias_nm": cond.bias_nm, "eiv_bias_nm": eiv_bias,
              "static_basis": M.static_curve_basis(base, M.baseline_specs(base, scales, fit_offset),
                                                   np.asarray(rec.velocity))}
     # least squares on a noisy acceleration attenuates J by lam = var(a_true)/var(a_measured); the
@@ -851,7 +851,8 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
         rmse_nm=float(np.sqrt(np.mean(r_cur[w > 0] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur,
-                             attribution_columns=attribution.columns)
+                             attribution_columns=attribution.columns, attribution_fits=attribution.fits,
+                             attribution_partials=attribution.partials)
     return Diagnosis(recording=recording, baseline=baseline, alpha=cfg.alpha, kappa_long_run_variance=loc0["kappa"],
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
                      improved=improved, selection_log=log, seconds=time.time() - t_start, arrays=arrays,
