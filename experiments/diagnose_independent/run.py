@@ -486,6 +486,16 @@ def _recipe_job(key, recipe, seed, spec, expected, recipes=None):
             "effects": [e for e, _ in spec], "effect_spec": spec, "seed": seed, "expected": expected}
 
 
+def _varied(gravity_phase: float, ripple_period: float, ripple_phase: float) -> dict:
+    """A fresh set's changes to fresh3's effects: the gravity's phase moved by ``gravity_phase``, the
+    asymmetry's sign flipped, the ripple's period scaled by ``ripple_period`` and its phase moved by
+    ``ripple_phase`` (sizes unchanged, so the concealed level carries over)."""
+    return {"gravity": lambda kw: kw | {"phase": kw["phase"] + gravity_phase},
+            "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
+            "position_ripple": lambda kw: kw | {"period": ripple_period * kw["period"],
+                                                "phase": kw["phase"] + ripple_phase}}
+
+
 def _refreshed(prefix, fs, varied, seed0):
     """fresh3's 24 effect rows (FRESH3_EFFECTS) at the recipes' rates ``fs`` (by recipe) and seeds
     ``seed0 + k``, each effect's parameters passed through ``varied[effect id]`` where it has one."""
@@ -982,9 +992,7 @@ def calib9_settings(n: int = 40):
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F10_FS = {"a": 295.0, "b": 365.0, "c": 285.0, "d": 505.0, "e": 415.0, "f": 245.0, "g": 385.0, "h": 335.0,
            "i": 275.0}
-_F10_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.4},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.05 * kw["period"], "phase": kw["phase"] - 0.6}}
+_F10_VARIED = _varied(0.4, 1.05, -0.6)
 
 
 def fresh10_settings():
@@ -1253,9 +1261,7 @@ def calib12_settings(n: int = 40):
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F13_FS = {"a": 315.0, "b": 435.0, "c": 265.0, "d": 555.0, "e": 405.0, "f": 335.0, "g": 445.0, "h": 305.0,
            "i": 375.0}
-_F13_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 2.3},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 0.8}}
+_F13_VARIED = _varied(2.3, 0.9, 0.8)
 
 
 def fresh13_settings():
@@ -1340,9 +1346,7 @@ def calib14_settings(n: int = 40):
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F15_FS = {"a": 325.0, "b": 445.0, "c": 275.0, "d": 565.0, "e": 395.0, "f": 345.0, "g": 455.0, "h": 315.0,
            "i": 365.0}
-_F15_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.7},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] - 1.3}}
+_F15_VARIED = _varied(0.7, 0.95, -1.3)
 
 
 def fresh15_settings():
@@ -1428,9 +1432,7 @@ def outside6_settings():
 # phases, signs and ripple periods changed again where that leaves their size alone
 _F17_FS = {"a": 315.0, "b": 485.0, "c": 295.0, "d": 545.0, "e": 415.0, "f": 365.0, "g": 435.0, "h": 325.0,
            "i": 385.0}
-_F17_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.1},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] + 2.1}}
+_F17_VARIED = _varied(1.1, 0.9, 2.1)
 
 
 def fresh17_settings():
@@ -1551,9 +1553,7 @@ def calib17_settings(n: int = 30):
 
 _F18_FS = {"a": 1500.0, "b": 120.0, "c": 1800.0, "d": 110.0, "e": 1300.0, "f": 2000.0, "g": 140.0, "h": 1600.0,
            "i": 100.0}
-_F18_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.9},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.15 * kw["period"], "phase": kw["phase"] - 1.7}}
+_F18_VARIED = _varied(-0.9, 1.15, -1.7)
 
 
 def fresh18_settings():
@@ -1597,9 +1597,7 @@ def calib18_settings(n: int = 30):
 _F19_FS = {"a": 180.0, "b": 260.0, "c": 140.0, "d": 380.0, "e": 300.0, "f": 150.0, "g": 200.0, "h": 120.0,
            "i": 220.0}
 _F19_AR = {"a": 0.85, "b": 0.7, "c": 0.9, "d": 0.6, "e": 0.8, "f": 0.88, "g": 0.75, "h": 0.92, "i": 0.65}
-_F19_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.6},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.85 * kw["period"], "phase": kw["phase"] + 1.3}}
+_F19_VARIED = _varied(0.6, 0.85, 1.3)
 
 
 def fresh19_settings():
@@ -1673,9 +1671,7 @@ def calib20_settings(n: int = 30):
 
 _F20_FS = {"a": 260.0, "b": 430.0, "c": 310.0, "d": 520.0, "e": 240.0, "f": 470.0, "g": 380.0, "h": 290.0,
            "i": 340.0}
-_F20_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.1},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.9 * kw["period"], "phase": kw["phase"] - 0.6}}
+_F20_VARIED = _varied(1.1, 0.9, -0.6)
 
 
 def fresh20_settings():
@@ -1757,9 +1753,7 @@ def outside8_settings():
 
 _F21_FS = {"a": 280.0, "b": 410.0, "c": 230.0, "d": 560.0, "e": 330.0, "f": 495.0, "g": 360.0, "h": 305.0,
            "i": 450.0}
-_F21_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.8},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.1 * kw["period"], "phase": kw["phase"] + 0.9}}
+_F21_VARIED = _varied(-0.8, 1.1, 0.9)
 
 
 def fresh21_settings():
@@ -1802,9 +1796,7 @@ def calib22_settings(n: int = 30):
 
 _F22_FS = {"a": 300.0, "b": 440.0, "c": 250.0, "d": 510.0, "e": 270.0, "f": 460.0, "g": 350.0, "h": 320.0,
            "i": 400.0}
-_F22_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.4},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] - 1.4}}
+_F22_VARIED = _varied(0.4, 0.95, -1.4)
 
 
 def fresh22_settings():
@@ -1856,9 +1848,7 @@ def calib23_settings(n: int = 30):
 
 _F23_FS = {"a": 290.0, "b": 470.0, "c": 240.0, "d": 530.0, "e": 310.0, "f": 480.0, "g": 340.0, "h": 295.0,
            "i": 430.0}
-_F23_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.5},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.05 * kw["period"], "phase": kw["phase"] + 1.2}}
+_F23_VARIED = _varied(-0.5, 1.05, 1.2)
 
 
 def fresh23_settings():
@@ -1909,9 +1899,7 @@ def calib24_settings(n: int = 30):
 
 _F24_FS = {"a": 310.0, "b": 455.0, "c": 260.0, "d": 545.0, "e": 300.0, "f": 470.0, "g": 355.0, "h": 285.0,
            "i": 415.0}
-_F24_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.7},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.92 * kw["period"], "phase": kw["phase"] - 0.6}}
+_F24_VARIED = _varied(0.7, 0.92, -0.6)
 
 
 def fresh24_settings():
@@ -1962,9 +1950,7 @@ def calib25_settings(n: int = 30):
 
 _F25_FS = {"a": 290.0, "b": 430.0, "c": 275.0, "d": 520.0, "e": 320.0, "f": 445.0, "g": 340.0, "h": 300.0,
            "i": 395.0}
-_F25_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.5},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.08 * kw["period"], "phase": kw["phase"] + 0.9}}
+_F25_VARIED = _varied(-0.5, 1.08, 0.9)
 
 
 def fresh25_settings():
@@ -2015,9 +2001,7 @@ def calib26_settings(n: int = 30):
 
 _F26_FS = {"a": 330.0, "b": 470.0, "c": 250.0, "d": 500.0, "e": 285.0, "f": 430.0, "g": 365.0, "h": 275.0,
            "i": 405.0}
-_F26_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.1},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] - 1.0}}
+_F26_VARIED = _varied(1.1, 0.95, -1.0)
 
 
 def fresh26_settings():
@@ -2070,9 +2054,7 @@ def calib27_settings(n: int = 30):
 
 _F27_FS = {"a": 310.0, "b": 450.0, "c": 265.0, "d": 510.0, "e": 295.0, "f": 420.0, "g": 355.0, "h": 285.0,
            "i": 385.0}
-_F27_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 0.6},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.04 * kw["period"], "phase": kw["phase"] + 1.7}}
+_F27_VARIED = _varied(0.6, 1.04, 1.7)
 
 
 def fresh27_settings():
@@ -2125,9 +2107,7 @@ def calib28_settings(n: int = 30):
 
 _F28_FS = {"a": 320.0, "b": 440.0, "c": 270.0, "d": 505.0, "e": 300.0, "f": 425.0, "g": 350.0, "h": 290.0,
            "i": 390.0}
-_F28_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 0.9},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.97 * kw["period"], "phase": kw["phase"] + 2.3}}
+_F28_VARIED = _varied(-0.9, 0.97, 2.3)
 
 
 def fresh28_settings():
@@ -2178,9 +2158,7 @@ def calib29_settings(n: int = 30):
 
 _F29_FS = {"a": 300.0, "b": 455.0, "c": 260.0, "d": 495.0, "e": 310.0, "f": 415.0, "g": 345.0, "h": 280.0,
            "i": 395.0}
-_F29_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 1.3},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.03 * kw["period"], "phase": kw["phase"] - 1.1}}
+_F29_VARIED = _varied(1.3, 1.03, -1.1)
 
 
 def fresh29_settings():
@@ -2301,9 +2279,7 @@ def calib31_settings(n: int = 30):
 
 _F30_FS = {"a": 310.0, "b": 465.0, "c": 255.0, "d": 480.0, "e": 330.0, "f": 405.0, "g": 360.0, "h": 285.0,
            "i": 375.0}
-_F30_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] - 1.7},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 0.95 * kw["period"], "phase": kw["phase"] + 0.8}}
+_F30_VARIED = _varied(-1.7, 0.95, 0.8)
 
 
 def fresh30_settings():
@@ -2420,9 +2396,7 @@ def calib33_settings(n: int = 40):
 
 _F31_FS = {"a": 290.0, "b": 445.0, "c": 270.0, "d": 505.0, "e": 320.0, "f": 395.0, "g": 350.0, "h": 295.0,
            "i": 385.0}
-_F31_VARIED = {"gravity": lambda kw: kw | {"phase": kw["phase"] + 2.2},
-               "asymmetry": lambda kw: kw | {"offset": -kw["offset"]},
-               "position_ripple": lambda kw: kw | {"period": 1.07 * kw["period"], "phase": kw["phase"] - 1.1}}
+_F31_VARIED = _varied(2.2, 1.07, -1.1)
 
 
 def fresh31_settings():
