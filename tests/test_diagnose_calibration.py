@@ -700,8 +700,9 @@ def test_attribution_partial_residuals_carry_the_joint_fit():
     model's linearised refit and the other terms, all fitted jointly on the training rows. By the
     Frisch-Waugh-Lovell theorem the term's joint coefficient is the least-squares slope of that
     partial residual on the term's columns (to 1e-9), and a term collinear with the refit, whose
-    coefficient alone is far larger than the residual, is drawn where its partial residual lies."""
-    from lugre_jax.diagnose._attribute import _partials
+    coefficient alone is far larger than the residual, is drawn where its partial residual lies. The
+    joint fit is the last accepted step's (_held_out with the earlier terms in its base)."""
+    from lugre_jax.diagnose._attribute import _held_out, _partials
 
     rng = np.random.default_rng(7)
     n = 3000
@@ -710,7 +711,8 @@ def test_attribution_partial_residuals_carry_the_joint_fit():
     x = JB[:, 0] + 0.05 * rng.standard_normal(n)  # nearly the refit's first column
     X1, X2 = x[:, None], np.column_stack([np.sin(np.arange(n) / 50.0), np.cos(np.arange(n) / 50.0)])
     r = JB @ np.array([-3.0, 0.2, 0.0, 0.1]) + 3.2 * x + X2 @ np.array([0.3, -0.1]) + 0.5 * rng.standard_normal(n)
-    fits, partials = _partials(JB, [X1, X2], r, rows)
+    _, _, _, pred, b_step = _held_out(X2, np.column_stack([JB, X1]), r, rows, ~rows, np.arange(n) // 100)
+    fits, partials = _partials(JB.shape[1], [X1, X2], r - pred, b_step)
     D = np.column_stack([JB, X1, X2])
     beta = np.linalg.lstsq(D[rows], r[rows], rcond=None)[0]
     for X, fit, part, b in ((X1, fits[0], partials[0], beta[4:5]), (X2, fits[1], partials[1], beta[5:7])):
@@ -718,7 +720,6 @@ def test_attribution_partial_residuals_carry_the_joint_fit():
         slope = np.linalg.lstsq(X[rows], part[rows], rcond=None)[0]
         assert np.allclose(slope, b, atol=1e-9)
     assert abs(beta[4] - 3.2) < 0.3 and np.std(fits[0]) > 2 * np.std(r - JB @ np.linalg.lstsq(JB, r, rcond=None)[0])
-    assert _partials(JB, [], r, rows) == ((), ())
 
 
 def test_attribution_figure_draws_each_term_over_its_partial_residual(tmp_path):
@@ -741,7 +742,9 @@ def test_attribution_figure_draws_each_term_over_its_partial_residual(tmp_path):
     JB = np.column_stack([np.sign(v), v])
     cols = [(v * np.abs(v))[:, None], np.column_stack([np.sin(2 * t), np.cos(2 * t)])]
     r = 0.3 * cols[0][:, 0] + 0.1 * np.sin(2 * t) + 0.05 * rng.standard_normal(n)
-    fits, partials = _partials(JB, cols, r, np.ones(n, bool))
+    D = np.column_stack([JB] + cols)
+    beta = np.linalg.lstsq(D, r, rcond=None)[0]
+    fits, partials = _partials(JB.shape[1], cols, r - D @ beta, beta)
     terms = [{"signal": "velocity_squared", "columns": ["v*|v|"], "units": ["N*m*s^2/deg^2"],
               "reading": "grows with v|v|: drag"},
              {"signal": "time", "columns": ["sin", "cos"], "units": ["N*m", "N*m"], "reading": "a line in time"}]

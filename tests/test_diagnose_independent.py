@@ -193,16 +193,17 @@ def test_held_out_phase_keeps_periodic_reversals_in_the_fit():
 
 
 def test_validation_phase_moves_only_off_concentrated_events():
-    """validation_phase: the fixed phase 2 unless it holds more than 0.6 of some kind of event and
+    """phase_off_events on phases_holding_events: the fixed phase 2 unless it holds more than 0.6 of some kind of event and
     more than chance allows (binomial p < 0.001); then the least loaded phase, the nearest to 2 on
     ties."""
     from lugre_jax.diagnose import DiagnoseConfig
-    from lugre_jax.diagnose._model import block_ids, validation_phase
+    from lugre_jax.diagnose._model import block_ids, phase_off_events, phases_holding_events
 
     cfg = DiagnoseConfig()
 
     def phase(blocks, events):
-        return validation_phase(blocks, events, max_share=cfg.max_event_share, alpha=cfg.event_alpha)
+        return phase_off_events(*phases_holding_events(blocks, events, max_share=cfg.max_event_share,
+                                                        alpha=cfg.event_alpha))
 
     t = np.arange(0.0, 100.0, 0.01)
     blocks = block_ids(t)

@@ -345,6 +345,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     terms = []
     before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
     after = before
+    joint = None  # the last accepted step's fit: every chosen term with the refit columns
     # a term is compared on the held-out blocks with the model's own linearised refit (its Jacobian
     # and nuisance columns fitted on the training rows), as on every null draw (_held_out)
     r0 = r - JB @ np.linalg.lstsq(JB[rows], r[rows], rcond=None)[0]
@@ -427,6 +428,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         if taken is None:
             break
         k, g, X, new, p_held, p_analytic, pred, beta, share = taken
+        joint = r - pred, beta
         chosen.append((g, X))
         chosen_i.append(idx[k])
         if idx[k] is None:
@@ -438,19 +440,15 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
                       "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
                       "p_held_out_analytic": float(p_analytic), "held_out_share_nm": share})
         after = compared = new
-    fits, partials = _partials(JB, [X for _, X in chosen], r, rows)
+    fits, partials = _partials(JB.shape[1], [X for _, X in chosen], *joint) if joint else ((), ())
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen), fits, partials)
 
 
-def _partials(JB, Xs, r, rows) -> tuple[tuple, tuple]:
-    """(fits, partial residuals) of the terms ``Xs`` fitted jointly with the refit columns ``JB`` on
-    the training ``rows`` (:class:`Attribution`)."""
-    if not Xs:
-        return (), ()
-    D = np.column_stack([JB] + list(Xs))
-    beta = np.linalg.lstsq(D[rows], r[rows], rcond=None)[0]
-    resid = r - D @ beta
-    fits, i = [], JB.shape[1]
+def _partials(n_refit: int, Xs, resid, beta) -> tuple[tuple, tuple]:
+    """(fits, partial residuals) of the terms ``Xs`` from their joint least squares with the refit's
+    ``n_refit`` columns first (coefficients ``beta``, residual ``resid``: the last accepted step's
+    :func:`_held_out` fit, :class:`Attribution`)."""
+    fits, i = [], n_refit
     for X in Xs:
         fits.append(X @ beta[i:i + X.shape[1]])
         i += X.shape[1]

@@ -530,7 +530,7 @@ VALIDATION_EVERY, VALIDATION_PHASE = 5, 2
 
 def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: int = VALIDATION_PHASE) -> np.ndarray:
     """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost),
-    at ``phase`` (:func:`validation_phase` chooses it)."""
+    at ``phase`` (:func:`phase_off_events` chooses it)."""
     return (blocks % every) == phase
 
 
@@ -562,21 +562,14 @@ def phases_holding_events(blocks: np.ndarray, events, every: int = VALIDATION_EV
     return worst, held
 
 
-def validation_phase(blocks: np.ndarray, events, every: int = VALIDATION_EVERY,
-                     default: int = VALIDATION_PHASE, *, max_share: float, alpha: float) -> int:
-    """The held-out phase of the interleaved blocks: ``default``, unless it holds too many of some
-    kind of event the fit must see (:func:`phases_holding_events`; e.g. the reversals); then the
-    phase whose largest share is least, the nearest to ``default`` on ties.
-
-    An excitation whose period is a multiple of ``every`` blocks puts its events in one phase: a
-    0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks every
-    reversal falls in the third block of five, and a fit on the other four never sees one."""
-    return phase_off_events(*phases_holding_events(blocks, events, every, max_share=max_share, alpha=alpha),
-                            default)
-
-
 def phase_off_events(worst: np.ndarray, held: np.ndarray, default: int = VALIDATION_PHASE) -> int:
-    """:func:`validation_phase`'s choice from :func:`phases_holding_events`' ``(worst, held)``."""
+    """The held-out phase of the interleaved blocks from :func:`phases_holding_events`' ``(worst,
+    held)``: ``default``, unless it holds too many of some kind of event the fit must see (e.g. the
+    reversals); then the phase whose largest share is least, the nearest to ``default`` on ties.
+
+    An excitation whose period is a multiple of the phases' count in blocks puts its events in one
+    phase: a 0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks
+    every reversal falls in the third block of five, and a fit on the other four never sees one."""
     if not held[default]:
         return default
     return min(range(len(worst)), key=lambda j: (worst[j], abs(j - default), j))

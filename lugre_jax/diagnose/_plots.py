@@ -150,9 +150,9 @@ def plot_report(report: Diagnosis, rec, outdir: str | os.PathLike) -> list[str]:
             save_figure(fig, outdir / f"effect_{c.id}.png")
             written.append(str(outdir / f"effect_{c.id}.png"))
     terms = (report.attribution or {}).get("terms", [])
-    if terms and arr.attribution_columns:
-        written.append(_plot_attribution(report, rec, r1 != 0, terms, arr.attribution_columns,
-                                         arr.attribution_fits, arr.attribution_partials, outdir, plt))
+    if terms and arr.attribution is not None and arr.attribution.columns:
+        a = arr.attribution
+        written.append(_plot_attribution(report, rec, r1 != 0, terms, a.columns, a.fits, a.partials, outdir, plt))
     return written
 
 

@@ -183,9 +183,7 @@ class DiagnosisArrays:
     blocks: Any
     loc0: dict
     loc1: dict
-    attribution_columns: tuple = ()  # each attributed term's regressors (n x k), in order
-    attribution_fits: tuple = ()  # each term's torque in the joint fit (Attribution.fits)
-    attribution_partials: tuple = ()  # the partial residual each term is fitted to (Attribution.partials)
+    attribution: Any = None  # the attribution with its arrays (regressors, fits, partial residuals)
 
 
 @dataclasses.dataclass(frozen=True)

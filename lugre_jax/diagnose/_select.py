@@ -500,7 +500,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
         kin_noise = float(np.sqrt(np.mean(centred_draws(d)[:, split.rows] ** 2)))
     # the simulated kinematic errors can be larger than the recording's (a velocity column whose
     # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
-    # the baseline's held-out RMSE (its upper confidence bound) leaves less room above the torque
+    # the baseline's held-out mean square (its upper bound) leaves less room above the torque
     # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
     room = max(_held_ms_bound(r0, split.val, split.blocks) - cond.torque_noise ** 2, 0.0)
     if kin_noise > 0 and kin_noise ** 2 > room:
@@ -851,8 +851,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
         rmse_nm=float(np.sqrt(np.mean(r_cur[w > 0] ** 2))), validation_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur,
-                             attribution_columns=attribution.columns, attribution_fits=attribution.fits,
-                             attribution_partials=attribution.partials)
+                             attribution=attribution)
     return Diagnosis(recording=recording, baseline=baseline, alpha=cfg.alpha, kappa_long_run_variance=loc0["kappa"],
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
                      improved=improved, selection_log=log, seconds=time.time() - t_start, arrays=arrays,
