@@ -65,6 +65,17 @@ def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0
     return _mad_std(d) / np.sqrt(20.0)
 
 
+def _jumps(x: np.ndarray, jump_std: float | None) -> np.ndarray:
+    """Where the signal steps: lag-1 third differences beyond ``jump_std`` robust std (the white
+    part's); None leaves none out."""
+    d1 = np.diff(x, 3)
+    s1 = _mad_std(d1)
+    jumps = np.zeros(x.size, bool)
+    if s1 > 0 and jump_std is not None:
+        jumps[np.flatnonzero(np.abs(d1 - np.median(d1)) > jump_std * s1)] = True
+    return jumps
+
+
 def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | None = 6.0, signal=None,
                   limit: float = 0.0, outlier_std: float = DiagnoseConfig.outlier_std):
     """(lags, std, se): the third-difference noise estimate at lags of k samples
@@ -80,14 +91,7 @@ def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | No
     x = np.asarray(x, float)
     sig = None if signal is None else np.asarray(signal, float)
     seg = x.size // segments
-    # jumps: lag-1 third differences beyond jump_std robust std (the white part's), where the
-    # signal steps (None: none are left out)
-    d1 = np.diff(x, 3)
-    s1 = _mad_std(d1)
-    jumps = np.zeros(x.size, bool)
-    if s1 > 0 and jump_std is not None:
-        big = np.flatnonzero(np.abs(d1 - np.median(d1)) > jump_std * s1)
-        jumps[big] = True
+    jumps = _jumps(x, jump_std)
     lags, sd, se = [], [], []
     for k in (1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128):
         if k > max_lag or 3 * k > seg // 4:
@@ -101,13 +105,27 @@ def noise_profile(x, max_lag: int = 128, segments: int = 8, jump_std: float | No
     return np.array(lags, int), np.array(sd, float), np.array(se, float)
 
 
+def signal_profile(x, signal, lags, limit: float, jump_std: float | None = 6.0) -> np.ndarray:
+    """Variance of the lag-k third differences of ``signal`` (a model's prediction of the signal in
+    ``x``) over the differences :func:`noise_profile` keeps at each of ``lags`` (those within
+    ``limit`` and clear of ``x``'s jumps): the signal's own share of that profile, in its shape."""
+    sig = np.asarray(signal, float)
+    c = np.concatenate([[0], np.cumsum(_jumps(np.asarray(x, float), jump_std))])
+    out = []
+    for k in lags:
+        d = _third_difference(sig, k)
+        ok = ((c[3 * k + 1:] - c[:-3 * k - 1]) == 0) & (np.abs(d) <= limit)
+        out.append(float(np.var(d[ok])) if ok.sum() >= max(10, d.size // 4) else float(np.var(d)))
+    return np.array(out, float)
+
+
 def _third_difference_gain(k, phi):
     """var of the lag-k third difference of a unit-variance AR(1) noise (coefficient phi) over 20."""
     return 1.0 - (30.0 * phi ** k - 12.0 * phi ** (2 * k) + 2.0 * phi ** (3 * k)) / 20.0
 
 
 def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
-                     colour_chi2: float = DiagnoseConfig.colour_chi2) -> tuple[float, float]:
+                     colour_chi2: float = DiagnoseConfig.colour_chi2, signal_var=None) -> tuple[float, float]:
     """(std, phi): the per-sample noise std of ``x`` seen through its colour, and the AR(1)
     coefficient of that colour (0: white, the estimate is then :func:`hf_noise_std`).
 
@@ -117,8 +135,14 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     correlation length), plus a smooth signal's part. Colour is claimed only when the best phi
     beats phi = 0 by ``colour_chi2`` (:attr:`DiagnoseConfig.colour_chi2`); a drive's averaged torque
     (TRO2021) is such a noise.
-    ``profile``: the :func:`noise_profile` of ``x`` if already computed (with ``jump_std``)."""
-    from scipy.optimize import nnls
+    ``profile``: the :func:`noise_profile` of ``x`` if already computed (with ``jump_std``).
+    ``signal_var``: a prediction's :func:`signal_profile` at the profile's lags, a further signal
+    column (its shape, where the motion's third differences grow more slowly than k^6), with its
+    coefficient in [0, 1]: the prediction's differences hold the signal's plus what the kinematics'
+    errors bring through the model, independent of it, so they bound the signal's variance from
+    above; the model's own misfit is left to the k^6 column. Unbounded, a prediction whose
+    profile saturates as a noise's does (steps, a sweep's fast end) takes the noise's share."""
+    from scipy.optimize import lsq_linear, nnls
 
     white = hf_noise_std(x)
     lags, sd, se = noise_profile(x, jump_std=jump_std) if profile is None else profile
@@ -129,9 +153,13 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     k = lags.astype(float)
 
     def fit(phi):
-        A = np.column_stack([_third_difference_gain(k, phi), (k / k[-1]) ** 6]) / sv[:, None]
-        coef, rnorm = nnls(A, v / sv)
-        return rnorm ** 2, coef[0]
+        cols = [_third_difference_gain(k, phi), (k / k[-1]) ** 6]
+        if signal_var is None or not np.any(signal_var > 0):
+            coef, rnorm = nnls(np.column_stack(cols) / sv[:, None], v / sv)
+            return rnorm ** 2, coef[0]
+        A = np.column_stack(cols + [np.asarray(signal_var, float) / 20.0]) / sv[:, None]
+        sol = lsq_linear(A, v / sv, bounds=([0.0, 0.0, 0.0], [np.inf, np.inf, 1.0]), method="bvls")
+        return 2.0 * sol.cost, sol.x[0]
 
     chi0, _ = fit(0.0)
     # only colours whose plateau the profile shows (g >= 0.9 from half the largest lag on): a longer
@@ -155,13 +183,13 @@ def noise_estimate_open(x, std: float, profile=None) -> bool:
 
 
 def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseConfig.colour_chi2,
-                       outlier_std: float = DiagnoseConfig.outlier_std) -> tuple[float, float, bool]:
+                       outlier_std: float = DiagnoseConfig.outlier_std, signal_var=None) -> tuple[float, float, bool]:
     """(std, phi, open) of the torque channel from its :func:`noise_profile` (computed when not
     given): :func:`torque_noise_std`, and :func:`noise_estimate_open` only where colour was claimed
     (a white estimate is read at lag 1, where the signal is absent, and the longest lags of a white
     recording hold the signal, so the flag would fire on white noise too)."""
     profile = noise_profile(torque, outlier_std=outlier_std) if profile is None else profile
-    st, phi = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2)
+    st, phi = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2, signal_var=signal_var)
     return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
 
 
@@ -173,10 +201,14 @@ def refined_torque_noise(torque, prediction, std: float, share: float = Diagnose
     ``share`` of the noise's (``std``, the first estimate): there the signal, not the
     noise, sets the difference. The profile's long lags, which tell a colour, otherwise hold the
     motion's fast changes too (a coloured noise at a low rate, where few lags span the correlation,
-    reads high by that)."""
+    reads high by that). What the prediction's kept differences vary by enters the fit as a further
+    signal column (:func:`signal_profile`): at long lags few differences are free of the motion, and
+    its part there grows more slowly than the k^6 the fit otherwise allows, so its excess would read
+    as noise."""
     limit = share * float(np.sqrt(20.0)) * std
     profile = noise_profile(torque, signal=prediction, limit=limit, outlier_std=outlier_std)
-    return torque_noise_model(torque, profile, colour_chi2=colour_chi2)
+    signal_var = signal_profile(torque, prediction, profile[0], limit)
+    return torque_noise_model(torque, profile, colour_chi2=colour_chi2, signal_var=signal_var)
 
 
 def quantisation_step(x) -> float:
