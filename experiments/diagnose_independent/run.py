@@ -2406,6 +2406,59 @@ def fresh31_settings():
     return _refreshed("fresh31", _F31_FS, _F31_VARIED, 19200)
 
 
+
+# calib34 and fresh32: the design of the refined noise fit's signal column (issue #30); three plants
+# no earlier set used
+PUNY = T.Plant(J=0.14, Fc=0.78, Fs=1.12, vs=0.05, sigma2=1.2, sigma0=205.0, sigma1=1.3)
+BULBOUS = T.Plant(J=0.27, Fc=1.15, Fs=1.62, vs=0.064, sigma2=1.5, sigma0=255.0, sigma1=1.9)
+STRAPPING = T.Plant(J=0.36, Fc=1.55, Fs=2.05, vs=0.071, sigma2=1.75, sigma0=300.0, sigma1=2.45)
+_add_plants({"puny": (PUNY, T.VelocityPIController(kp=6.2, ki=36.0)),
+             "bulbous": (BULBOUS, T.VelocityPIController(kp=14.5, ki=86.0)),
+             "strapping": (STRAPPING, T.VelocityPIController(kp=24.0, ki=144.0))},
+            {"puny": T.PositionPIDController.tuned(0.14, 3.1, tf=0.002),
+             "bulbous": T.PositionPIDController.tuned(0.27, 2.8, tf=0.004),
+             "strapping": T.PositionPIDController.tuned(0.36, 2.6, tf=0.005)})
+
+CALIB34_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.047, 0.17, 0.6, 1.55, 3.3), "dwell": 2.9 if i % 2 else 3.2,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.055, "f1": 1.5, "duration": 35.0,
+                             "bias": 0.6 + 0.25 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.55 * (i % 2), "f0": 0.05, "f1": 1.25 + 0.3 * (i % 3),
+                            "n": 12 + 2 * (i % 2), "duration": 35.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.0 * (i % 3), "frequency": 0.16 + 0.045 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (-2.2, 2.4, -2.1, 2.2, -1.9) if i % 2 else (2.0, -2.3, 2.2, -2.5, 1.8, -1.6),
+                                 "move_time": 1.2 + 0.45 * (i % 2), "dwell": 2.4, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.21, 0.7, 1.65, 3.4), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib34_settings(n: int = 40):
+    """A thirty-fourth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops (the position PID without feedforward in
+    every fourth row) x the three sensor sets, on three plants no earlier set used (PUNY, BULBOUS,
+    STRAPPING), 240-870 Hz, torque noise 0.056-0.075 N*m, white in half the rows and AR(1) of
+    coefficient 0.65 or 0.8 in the other half, velocity noise 0.0035-0.0048 deg/s, quantisation
+    0.0006-0.0011 deg; seeds 19300 + i."""
+    return _effect_free_set("calib34", CALIB34_EXCITATIONS, ["puny", "bulbous", "strapping"],
+                            [(False, True), (True, True), (True, False)], [240.0, 540.0, 870.0, 340.0, 650.0],
+                            [0.064, 0.056, 0.075], [0.0, 0.8, 0.0, 0.65], [0.0035, 0.0048], [0.0006, 0.0011],
+                            19300, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=2, tn_rule=(1, 4))
+
+
+_F32_FS = {"a": 310.0, "b": 430.0, "c": 285.0, "d": 520.0, "e": 340.0, "f": 375.0, "g": 365.0, "h": 280.0,
+           "i": 405.0}
+_F32_VARIED = _varied(0.6, 0.94, 2.4)
+
+
+def fresh32_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 280-520 Hz (by recipe), seeds 19400 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh32", _F32_FS, _F32_VARIED, 19400)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2437,6 +2490,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib31": calib31_settings, "fresh30": fresh30_settings, "calib31cells": calib31_cells_settings,
             "calib30cells": calib30_cells_settings, "calib32pid": calib32pid_settings,
             "calib33": calib33_settings, "fresh31": fresh31_settings,
+            "calib34": calib34_settings, "fresh32": fresh32_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2612,7 +2666,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh22", "calib23", "fresh23", "calib24", "fresh24", "calib25", "fresh25",
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
-               "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31")
+               "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
+               "calib34", "fresh32")
 
 
 def main():
