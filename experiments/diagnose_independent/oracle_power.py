@@ -1,0 +1,109 @@
+"""What an oracle could name: for each effect row of a study, the part of the true effect's torque
+that the baseline's own parameters cannot absorb, over the torque noise, as the noncentrality of a
+test that knows the effect's exact shape. It bounds what any calibrated test can do on that row.
+
+The effect's torque is the recorded torque without noise less the generator's own plant along the
+true motion (``predict`` of the true parameters on the true kinematics, so it holds every effect,
+asymmetry included). The baseline's directions are the Jacobian of that prediction in its
+log-parameters (central differences; no offset, which ``diagnose`` does not fit by default); the remainder is the effect's part
+orthogonal to them, AR(1)-whitened where the noise is coloured. Its squared norm over the training
+samples (four blocks in five) over the noise's innovation variance is the noncentrality ``lam`` of a
+one-column chi-square test; the oracle's power is at the naming test's level, ``alpha/3`` shared
+over the eight candidates (Bonferroni). Writes <out>/oracle_<study>.jsonl and prints a line a row.
+
+    python experiments/diagnose_independent/oracle_power.py --study fresh31
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import jax.numpy as jnp
+import numpy as np
+from scipy.stats import chi2, ncx2
+
+import lugre_jax
+import run as R
+from lugre_jax.diagnose import DiagnoseConfig, Kinematics, baseline_from_params, predict
+
+PARAMS = ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1")
+
+
+def _whiten(x: np.ndarray, phi: float) -> np.ndarray:
+    """AR(1) prewhitening along the first axis (the first sample scaled to the stationary law)."""
+    if phi <= 0:
+        return x
+    out = np.empty_like(x)
+    out[0] = np.sqrt(1.0 - phi ** 2) * x[0]
+    out[1:] = x[1:] - phi * x[:-1]
+    return out
+
+
+def oracle(g, params: dict, phi: float, train_share: float = 0.8) -> dict:
+    """``lam`` and the effect's rms before and after the baseline's directions (over the noise std)."""
+    t, th = np.asarray(g.time, float), np.asarray(g.true["theta"], float)
+    kin = Kinematics(jnp.asarray(t), jnp.asarray(th), jnp.asarray(g.true["omega"]),
+                     jnp.asarray(g.true["acceleration"]), jnp.asarray(np.diff(t)), jnp.asarray(np.diff(th)),
+                     jnp.asarray(0.0))
+
+    def pred(p):
+        return np.asarray(predict(baseline_from_params(p | {"offset": 0.0}), kin), float)
+
+    e = np.asarray(g.true["torque"], float) - pred(params)
+    cols = []
+    for k in PARAMS:
+        h = 1e-4
+        up, dn = dict(params), dict(params)
+        up[k], dn[k] = params[k] * np.exp(h), params[k] * np.exp(-h)
+        cols.append((pred(up) - pred(dn)) / (2.0 * h))
+    Jb = _whiten(np.column_stack(cols), phi)
+    ew = _whiten(e, phi)
+    U, s, _ = np.linalg.svd(Jb / np.maximum(np.linalg.norm(Jb, axis=0), 1e-300), full_matrices=False)
+    Q = U[:, s > 1e-8 * s[0]]
+    left = ew - Q @ (Q.T @ ew)
+    sd = g.torque_noise_std
+    innovation = sd ** 2 * (1.0 - phi ** 2)
+    return {"effect_rms_over_noise": float(np.sqrt(np.mean(e ** 2)) / sd),
+            "left_rms_over_noise": float(np.sqrt(np.mean(left ** 2) / innovation)),
+            "lam": float(train_share * np.sum(left ** 2) / innovation)}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--study", choices=sorted(R.SETTINGS), required=True)
+    ap.add_argument("--cache", default=None, help="generated-recording cache (default <results>/<study>/cache)")
+    ap.add_argument("--out", default=None, help="output folder (default <results>/<study>)")
+    a = ap.parse_args()
+    lugre_jax.configure()
+    res = Path(__file__).resolve().with_name("results") / a.study
+    out = Path(a.out) if a.out else res
+    out.mkdir(parents=True, exist_ok=True)
+    runs = {}
+    if (res / f"runs_{a.study}.jsonl").exists():
+        runs = {d["key"]: d for d in map(json.loads, (res / f"runs_{a.study}.jsonl").read_text().splitlines())}
+    cfg = DiagnoseConfig()
+    crit = chi2.isf(cfg.alpha_name / 8, 1)
+    lines, total, rows = [], 0.0, 0
+    for job in R.SETTINGS[a.study]():
+        if job.get("expected", "none") in ("none", "unexplained"):
+            continue
+        g, _ = R.generated(job, Path(a.cache) if a.cache else res / "cache")
+        plant, _ = R.controller_of(job)
+        row = {"key": job["key"], "expected": job["expected"], "torque_noise_ar": job["torque_noise_ar"]}
+        row |= oracle(g, {k: float(getattr(plant, k)) for k in PARAMS} | {"delta": float(plant.delta)},
+                      float(job["torque_noise_ar"]))
+        row["oracle_power"] = float(ncx2.sf(crit, 1, row["lam"]))
+        row["verdict"] = runs.get(job["key"], {}).get("verdict")
+        total += row["oracle_power"]
+        rows += 1
+        lines.append(json.dumps(row))
+        print(f"{job['key']:48s} effect {row['effect_rms_over_noise']:.3f} left {row['left_rms_over_noise']:.3f} "
+              f"lam {row['lam']:8.1f} oracle power {row['oracle_power']:.2f} verdict {row['verdict']}", flush=True)
+    (out / f"oracle_{a.study}.jsonl").write_text("\n".join(lines) + "\n")
+    print(f"oracle: {total:.1f} of {rows} expected named")
+
+
+if __name__ == "__main__":
+    main()
