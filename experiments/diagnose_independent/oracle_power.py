@@ -8,7 +8,8 @@ asymmetry included). The baseline's directions are the Jacobian of that predicti
 log-parameters (central differences; no offset, which ``diagnose`` does not fit by default); the remainder is the effect's part
 orthogonal to them, AR(1)-whitened where the noise is coloured. Its squared norm over the training
 samples (four blocks in five) over the noise's innovation variance is the noncentrality ``lam`` of a
-one-column chi-square test; the oracle's power is at the naming test's level, ``alpha/3`` shared
+one-column chi-square test (each study row of ``run.py`` also holds it over the samples the
+diagnosis kept for training, ``oracle_lam_kept``: a sharp transient's samples leave the fit); the oracle's power is at the naming test's level, ``alpha/3`` shared
 over the eight candidates (Bonferroni). Writes <out>/oracle_<study>.jsonl and prints a line a row.
 
     python experiments/diagnose_independent/oracle_power.py --study fresh31
@@ -41,8 +42,10 @@ def _whiten(x: np.ndarray, phi: float) -> np.ndarray:
     return out
 
 
-def oracle(g, params: dict, phi: float, train_share: float = 0.8) -> dict:
-    """``lam`` and the effect's rms before and after the baseline's directions (over the noise std)."""
+def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> dict:
+    """``lam`` and the effect's rms before and after the baseline's directions (over the noise std).
+    ``rows``: the training samples (a mask; the diagnosis's kept training samples, as ``run.py``
+    passes them); None counts ``train_share`` of every sample."""
     t, th = np.asarray(g.time, float), np.asarray(g.true["theta"], float)
     kin = Kinematics(jnp.asarray(t), jnp.asarray(th), jnp.asarray(g.true["omega"]),
                      jnp.asarray(g.true["acceleration"]), jnp.asarray(np.diff(t)), jnp.asarray(np.diff(th)),
@@ -60,6 +63,9 @@ def oracle(g, params: dict, phi: float, train_share: float = 0.8) -> dict:
         cols.append((pred(up) - pred(dn)) / (2.0 * h))
     Jb = _whiten(np.column_stack(cols), phi)
     ew = _whiten(e, phi)
+    share = train_share
+    if rows is not None:
+        Jb, ew, share = Jb[rows], ew[rows], 1.0
     U, s, _ = np.linalg.svd(Jb / np.maximum(np.linalg.norm(Jb, axis=0), 1e-300), full_matrices=False)
     Q = U[:, s > 1e-8 * s[0]]
     left = ew - Q @ (Q.T @ ew)
@@ -67,7 +73,7 @@ def oracle(g, params: dict, phi: float, train_share: float = 0.8) -> dict:
     innovation = sd ** 2 * (1.0 - phi ** 2)
     return {"effect_rms_over_noise": float(np.sqrt(np.mean(e ** 2)) / sd),
             "left_rms_over_noise": float(np.sqrt(np.mean(left ** 2) / innovation)),
-            "lam": float(train_share * np.sum(left ** 2) / innovation)}
+            "lam": float(share * np.sum(left ** 2) / innovation)}
 
 
 def main() -> None:

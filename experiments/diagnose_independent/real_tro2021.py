@@ -40,7 +40,7 @@ def chained(folder: Path):
         runs.append((t0, f.name, r))
     runs.sort(key=lambda x: (np.nan_to_num(x[0], nan=np.inf), x[1]))
     t_all, v_all, y_all, names = [], [], [], []
-    t_off, th = 0.0, [0.0]
+    t_off = 0.0
     base = runs[0][0] if np.isfinite(runs[0][0]) else 0.0
     for t0, name, r in runs:
         start = (t0 - base) if np.isfinite(t0) else t_off

@@ -2622,6 +2622,13 @@ def run_new(job, top_k, cache=None):
         train = (r0 != 0) & ~np.asarray(rep.arrays.val)
         row["baseline_misfit_over_noise"] = float(np.sqrt(np.mean((r0 - np.asarray(noise))[train] ** 2))
                                                   / g.torque_noise_std)
+        if job.get("effects") and job["expected"] not in ("none", "unexplained"):
+            # what a test knowing the effect's shape could see on the samples the fit kept
+            from oracle_power import PARAMS, oracle
+
+            plant, _ = controller_of(job)
+            row["oracle_lam_kept"] = oracle(g, {k: float(getattr(plant, k)) for k in PARAMS + ("delta",)},
+                                            float(job["torque_noise_ar"]), rows=train)["lam"]
     if rep.selection_log:
         row["step1_tests"] = rep.selection_log[0]["tests"]
         row["step1_refits"] = rep.selection_log[0]["joint_refits"]
