@@ -122,3 +122,21 @@ def test_a_noisy_prediction_does_not_lower_the_estimate(seed):
     x = sig + 0.1 * _ar1(0.8, seed=seed)
     pred = sig + 0.03 * _ar1(0.8, seed=100 + seed)
     assert refined_torque_noise(x, pred, torque_noise_std(x)[0])[0] > 0.097
+
+
+def test_the_signal_column_never_raises_the_estimate():
+    """A profile shaped as a drive's averaged current (TRO2021 driveNo1's through its fitted model,
+    rounded, in units of its lag-1 level): a rise to an overshoot at lags 24-32, a plateau, and the
+    motion alone at lag 128, which the prediction's column holds. With the column the AR(1) fit
+    follows the overshoot and reads higher (a shape AR(1) noise has not); the model keeps the lower
+    estimate, the one without it."""
+    lags = np.array([1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128])
+    sd = np.array([0.039, 0.075, 0.1, 0.119, 0.16, 0.185, 0.231, 0.25, 0.282, 0.27, 0.229, 0.246, 0.214, 1.529])
+    se = sd * np.array([0.049, 0.066, 0.097, 0.118, 0.132, 0.125, 0.123, 0.11, 0.069, 0.057, 0.09, 0.092, 0.496,
+                        0.019])
+    signal_var = np.zeros(lags.size)
+    signal_var[-1] = 20.0 * sd[-1] ** 2
+    x = 0.039 * np.random.default_rng(0).standard_normal(N)
+    plain = torque_noise_std(x, profile=(lags, sd, se))[0]
+    assert torque_noise_std(x, profile=(lags, sd, se), signal_var=signal_var)[0] > 1.05 * plain
+    assert torque_noise_model(x, (lags, sd, se), signal_var=signal_var)[0] == plain

@@ -187,9 +187,16 @@ def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseCon
     """(std, phi, open) of the torque channel from its :func:`noise_profile` (computed when not
     given): :func:`torque_noise_std`, and :func:`noise_estimate_open` only where colour was claimed
     (a white estimate is read at lag 1, where the signal is absent, and the longest lags of a white
-    recording hold the signal, so the flag would fire on white noise too)."""
+    recording hold the signal, so the flag would fire on white noise too). ``signal_var``: a
+    prediction's signal column (:func:`torque_noise_std`); it only takes signal out of the profile,
+    so it may lower the estimate, never raise it: where the fit with it reads higher, it has moved
+    the colour's shape instead (a noise whose profile is not AR(1)'s, as a drive's averaged current),
+    and the estimate without it stays."""
     profile = noise_profile(torque, outlier_std=outlier_std) if profile is None else profile
-    st, phi = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2, signal_var=signal_var)
+    st, phi = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2)
+    if signal_var is not None:
+        st, phi = min((st, phi), torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2,
+                                                  signal_var=signal_var))
     return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
 
 
