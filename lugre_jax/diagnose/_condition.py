@@ -36,21 +36,29 @@ def _third_difference(x, k: int) -> np.ndarray:
     return x[:-3 * k] - 3 * x[k:-2 * k] + 3 * x[2 * k:-k] - x[3 * k:]
 
 
-def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0,
-                          outlier_std: float = DiagnoseConfig.outlier_std) -> float:
-    d = _third_difference(x, k)
-    ok = np.ones(d.size, bool)
+def _kept_differences(n: int, k: int, jumps=None, signal_d=None, limit: float = 0.0) -> np.ndarray | None:
+    """Which of the ``n`` lag-k third differences the noise profile keeps, or None when fewer than
+    a quarter (and 10) are left, and all are kept. ``signal_d``: a prediction's own lag-k third
+    differences."""
+    ok = np.ones(n, bool)
     if jumps is not None:
         # leave out the differences whose span holds a jump of the signal (a step between
         # set-points): at long lags they would be a large share, past what the MAD ignores
         c = np.concatenate([[0], np.cumsum(jumps)])
         ok &= (c[3 * k + 1:] - c[:-3 * k - 1]) == 0
-    if signal is not None:
+    if signal_d is not None:
         # and those the signal (a model's prediction of it) reaches past ``limit``: at the long lags
         # that show a colour, the signal's own rise where the motion changes fast is not the smooth
         # k^6 law the fit allows for, and it reads as colour
-        ok &= np.abs(_third_difference(signal, k)) <= limit
-    if ok.sum() >= max(10, d.size // 4):
+        ok &= np.abs(signal_d) <= limit
+    return ok if ok.sum() >= max(10, n // 4) else None
+
+
+def _third_difference_std(x, k: int, jumps=None, signal=None, limit: float = 0.0,
+                          outlier_std: float = DiagnoseConfig.outlier_std) -> float:
+    d = _third_difference(x, k)
+    ok = _kept_differences(d.size, k, jumps, None if signal is None else _third_difference(signal, k), limit)
+    if ok is not None:
         d = d[ok]
     # and those far out at this lag: a fast but resolved change of the signal (the friction torque
     # through a reversal, ~2*Fc within the pre-sliding distance) is no jump at lag 1 but spans a
@@ -110,12 +118,12 @@ def signal_profile(x, signal, lags, limit: float, jump_std: float | None = 6.0) 
     ``x``) over the differences :func:`noise_profile` keeps at each of ``lags`` (those within
     ``limit`` and clear of ``x``'s jumps): the signal's own share of that profile, in its shape."""
     sig = np.asarray(signal, float)
-    c = np.concatenate([[0], np.cumsum(_jumps(np.asarray(x, float), jump_std))])
+    jumps = _jumps(np.asarray(x, float), jump_std)
     out = []
     for k in lags:
         d = _third_difference(sig, k)
-        ok = ((c[3 * k + 1:] - c[:-3 * k - 1]) == 0) & (np.abs(d) <= limit)
-        out.append(float(np.var(d[ok])) if ok.sum() >= max(10, d.size // 4) else float(np.var(d)))
+        ok = _kept_differences(d.size, k, jumps, d, limit)
+        out.append(float(np.var(d if ok is None else d[ok])))
     return np.array(out, float)
 
 
