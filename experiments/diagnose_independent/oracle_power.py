@@ -27,9 +27,9 @@ from scipy.stats import chi2, ncx2
 
 import lugre_jax
 import run as R
-from lugre_jax.diagnose import DiagnoseConfig, Kinematics, baseline_from_params, predict
+from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, Kinematics, baseline_from_params, predict
 
-PARAMS = ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1")
+PARAMS = ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1")  # the baseline's directions (delta is fixed)
 
 
 def _whiten(x: np.ndarray, phi: float) -> np.ndarray:
@@ -90,16 +90,14 @@ def main() -> None:
     if (res / f"runs_{a.study}.jsonl").exists():
         runs = {d["key"]: d for d in map(json.loads, (res / f"runs_{a.study}.jsonl").read_text().splitlines())}
     cfg = DiagnoseConfig()
-    crit = chi2.isf(cfg.alpha_name / 8, 1)
+    crit = chi2.isf(cfg.alpha_name / len(CANDIDATES), 1)
     lines, total, rows = [], 0.0, 0
     for job in R.SETTINGS[a.study]():
         if job.get("expected", "none") in ("none", "unexplained"):
             continue
         g, _ = R.generated(job, Path(a.cache) if a.cache else res / "cache")
-        plant, _ = R.controller_of(job)
         row = {"key": job["key"], "expected": job["expected"], "torque_noise_ar": job["torque_noise_ar"]}
-        row |= oracle(g, {k: float(getattr(plant, k)) for k in PARAMS} | {"delta": float(plant.delta)},
-                      float(job["torque_noise_ar"]))
+        row |= oracle(g, R.true_params(job), float(job["torque_noise_ar"]))
         row["oracle_power"] = float(ncx2.sf(crit, 1, row["lam"]))
         row["verdict"] = runs.get(job["key"], {}).get("verdict")
         total += row["oracle_power"]

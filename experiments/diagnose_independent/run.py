@@ -253,6 +253,12 @@ def controller_of(job):
     return plant, pid
 
 
+def true_params(job) -> dict:
+    """The generator plant's parameters of ``job`` as a ``params`` dict for ``diagnose`` (no offset)."""
+    plant, _ = controller_of(job)
+    return {k: float(getattr(plant, k)) for k in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
+
+
 def null_settings(n: int = 32):
     """``n`` effect-free settings: a deterministic walk through the grid, so that every value of
     every setting appears (not the full product)."""
@@ -2406,7 +2412,6 @@ def fresh31_settings():
     return _refreshed("fresh31", _F31_FS, _F31_VARIED, 19200)
 
 
-
 # calib34 and fresh32: the design of the refined noise fit's signal column (issue #30); three plants
 # no earlier set used
 PUNY = T.Plant(J=0.14, Fc=0.78, Fs=1.12, vs=0.05, sigma2=1.2, sigma0=205.0, sigma1=1.3)
@@ -2624,11 +2629,9 @@ def run_new(job, top_k, cache=None):
                                                   / g.torque_noise_std)
         if job.get("effects") and job["expected"] not in ("none", "unexplained"):
             # what a test knowing the effect's shape could see on the samples the fit kept
-            from oracle_power import PARAMS, oracle
+            from oracle_power import oracle
 
-            plant, _ = controller_of(job)
-            row["oracle_lam_kept"] = oracle(g, {k: float(getattr(plant, k)) for k in PARAMS + ("delta",)},
-                                            float(job["torque_noise_ar"]), rows=train)["lam"]
+            row["oracle_lam_kept"] = oracle(g, true_params(job), float(job["torque_noise_ar"]), rows=train)["lam"]
     if rep.selection_log:
         row["step1_tests"] = rep.selection_log[0]["tests"]
         row["step1_refits"] = rep.selection_log[0]["joint_refits"]

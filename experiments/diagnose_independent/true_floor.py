@@ -39,9 +39,7 @@ def main() -> None:
             and j.get("expected", "none") == "none" and (not a.only or j["key"] in a.only.split(","))]
     for job in jobs:
         g, _ = R.generated(job, Path(a.cache) if a.cache else out / "cache")
-        plant, _ = R.controller_of(job)
-        params = {k: float(getattr(plant, k)) for k in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
-        rep = diagnose(g.to_recording(), params=params | {"offset": 0.0, "friction_model": "LuGre"},
+        rep = diagnose(g.to_recording(), params=R.true_params(job) | {"offset": 0.0, "friction_model": "LuGre"},
                        candidates=None if a.all_candidates else [], progress=False)
         b = rep.baseline
         row = {"key": job["key"], "true_torque_noise": g.torque_noise_std,
