@@ -54,3 +54,21 @@ def test_held_out_samples_the_training_does_not_determine_leave_the_validation()
     sse1 = float(np.sum((tau - p1)[rows] ** 2))
     assert abs(sse1 - sse0) < 0.01 * 0.05 ** 2  # a hundredth of one noise variance
     assert float(np.max(np.abs(p1 - p0)[dropped])) > 0.5 * 0.05
+
+
+def test_given_parameters_taken_as_an_estimate_keep_the_refit():
+    """Reference: the fitted baseline's own preparation. Given parameters are held fixed (no free
+    parameter, no leverage rule); with ``refit=True`` they count as the fitted baseline's do, and the
+    refit flag without parameters is refused."""
+    import pytest
+
+    from lugre_jax.diagnose import diagnose
+
+    prep, _ = _prepared()
+    params = M.model_params(prep.base)
+    held, _ = S._prepare(prep.rec_in, DiagnoseConfig(), params, "lugre", False)
+    taken, _ = S._prepare(prep.rec_in, DiagnoseConfig(), params, "lugre", False, refit=True)
+    assert held.k == 0
+    assert taken.k == prep.k == len(M.baseline_specs(prep.base, M.data_scales(prep.rec), False)) > 0
+    with pytest.raises(ValueError, match="refit"):
+        diagnose(prep.rec_in, refit=True)

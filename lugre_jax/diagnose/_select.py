@@ -244,7 +244,7 @@ class Floor:
     scales: dict
 
 
-def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]:
+def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
     fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
     from ._condition import (blended, condition, conditioned_kinematics, forget_after, model_bias_unresolved,
@@ -356,7 +356,7 @@ def _prepare(rec, cfg, params, friction, fit_offset) -> tuple[Prepared, "Split"]
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
-    k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None else 0
+    k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None or refit else 0
     lines = motion_lines(np.asarray(rec.time, float), np.asarray(kin.v, float), cfg.alpha_attribute)
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest, lines), split
 
@@ -742,8 +742,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, r0):
     return current, r_cur, accepted, log
 
 
-def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_offset: bool = False,
-             candidates=None, config: DiagnoseConfig | None = None, progress: bool = True,
+def diagnose(rec, *, params: dict | None = None, refit: bool = False, friction: str = "lugre",
+             fit_offset: bool = False, candidates=None, config: DiagnoseConfig | None = None, progress: bool = True,
              **settings) -> Diagnosis:
     """Diagnose a :class:`~lugre_jax.io.Recording`; returns a :class:`~._report.Diagnosis`
     (``to_json()``: the REPORT.json content; ``arrays``: residuals, models and tests behind it).
@@ -753,17 +753,21 @@ def diagnose(rec, *, params: dict | None = None, friction: str = "lugre", fit_of
     again through the fitted model (:func:`_noise`), the noise floor and the null model (:func:`_floor`), locate residual structure (:func:`~._locate.locate`),
     select candidates by the calibrated test (:func:`_select`), report.
 
-    ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format).
+    ``params``: baseline parameters to use instead of fitting (REPORT ``baseline.params`` format),
+    held fixed in every test; with ``refit`` they are taken as an estimate, as a fitted baseline's
+    are: the tests keep the baseline's linearised refit and its parameter count.
     ``friction``: ``lugre`` (default), ``stribeck`` or ``coulomb_viscous``. ``fit_offset``: a
     constant torque offset in the baseline. ``candidates``: a subset of candidate ids.
     ``config``: a :class:`DiagnoseConfig`; keyword ``settings`` override its fields (``alpha=``,
     ``block_s=``, ``top_k=``, ``max_effects=``, ``null_draws=``...).
     """
     t_start = time.time()
+    if refit and params is None:
+        raise ValueError("diagnose: refit=True takes the given params as an estimate; pass params")
     cfg = dataclasses.replace(config or DiagnoseConfig(), **settings)
     pool = dict(CANDIDATES) if candidates is None else {c: CANDIDATES[c] for c in candidates}
-    frozen = params is not None
-    prep, split = _prepare(rec, cfg, params, friction, fit_offset)
+    frozen = params is not None and not refit
+    prep, split = _prepare(rec, cfg, params, friction, fit_offset, refit)
     split = _predicted(prep, split, fit_offset, cfg.resolved_share)
     prediction = np.asarray(M.predict(prep.base, prep.kin), float)
     r0 = (np.asarray(prep.rec.torque) - prediction) * split.keep
