@@ -10,9 +10,10 @@ most significant group only if its least-squares term, fitted on the training bl
 held-out RMSE significantly (its held-out gain against the same gain on every null draw,
 :func:`held_out_gains`, at the same share of alpha) and by a held-out share
 ``sqrt(before^2 - after^2)`` of at least ``resolution`` (DiagnoseConfig, 0.15) of the per-sample noise floor. The tests
-alone are not enough: a fitted baseline off the true parameters leaves a nonlinear misfit that its
-linearised refit does not take and the null (which does not refit the baseline) does not simulate,
-and a long recording resolves it (docs/diagnosis.md, detection limits). The terms are linear in
+alone are not enough: what the kinematics' errors (the true motion smoothed with its noise) leave
+through the model is more than the null's kinematic draws (measured signals re-noised, both paths
+smoothed alike) bring beyond their own Jacobian, and a long recording resolves it
+(docs/diagnosis.md, detection limits). The terms are linear in
 their coefficients, so the first-order gain is the exact least-squares gain.
 """
 
@@ -415,8 +416,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
             # what the term removes from the held-out error, per sample: it must reach the resolution
-            # locate claims structure at (``resolution`` of the noise floor), above the nonlinear misfit a
-            # fitted baseline leaves and the null does not simulate
+            # locate claims structure at (``resolution`` of the noise floor), above what the kinematics'
+            # errors leave through the model beyond the null's draws
             share = float(np.sqrt(max(compared ** 2 - new ** 2, 0.0)))
             least = resolution * float(ctx.scales.get("noise", 0.0))
             if new < min(after, compared) and C.rejects(p_held, alpha) and share >= least:

@@ -55,9 +55,10 @@ class DiagnoseConfig:
       exceed it (their squared share, 0.0225, for the whiteness test), and a term of the attribution
       must remove at least this share of the floor from the held-out RMSE. Below it sit the inverse
       model's own errors in variables at the slowest speeds, which leave means of that order even with
-      the true parameters, and the misfit of a baseline fitted into another basin than the true
-      parameters', which the null draws do not simulate (0.03-0.13 of the floor on calib30's
-      effect-free recordings; docs/diagnosis.md, detection limits). 0 leaves the calibrated tests alone.
+      the true parameters, and what the kinematics' errors leave through the model beyond the null's
+      kinematic draws (0.03-0.13 of the floor on calib30's effect-free recordings, with the fitted or
+      the generator's parameters alike, none with exact kinematics; docs/diagnosis.md, detection
+      limits). 0 leaves the calibrated tests alone.
     - ``shape_resolution`` (0.05): the friction-shape bands' margin beyond their errors-in-variables
       mean, in units of the noise floor (the bands average over many samples, so a smaller share of
       what the slowest speeds leave is enough).
