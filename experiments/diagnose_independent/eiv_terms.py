@@ -18,13 +18,11 @@ and way to <out>/eiv_terms_<study>.jsonl and prints it.
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
 import numpy as np
 
-import lugre_jax
 import run as R
 from lugre_jax.diagnose import diagnose
 from lugre_jax.io import recording_from_arrays
@@ -42,16 +40,7 @@ def _row(job, way: str, rep) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=sorted(R.SETTINGS), required=True)
-    ap.add_argument("--only", required=True, help="comma-separated keys")
-    ap.add_argument("--cache", default=None, help="generated-recording cache (default <results>/<study>/cache)")
-    ap.add_argument("--out", default=None, help="output folder (default <results>/<study>)")
-    a = ap.parse_args()
-    lugre_jax.configure()
-    res = Path(__file__).resolve().with_name("results") / a.study
-    out = Path(a.out) if a.out else res
-    out.mkdir(parents=True, exist_ok=True)
+    a, res, out = R.study_cli(__doc__, ("--only", {"required": True, "help": "comma-separated keys"}))
     keys = a.only.split(",")
     lines = []
     for job in R.SETTINGS[a.study]():

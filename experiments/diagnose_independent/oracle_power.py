@@ -18,7 +18,6 @@ same level over the attribution's eight groups with the time line). Writes <out>
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
@@ -26,7 +25,6 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.stats import chi2, ncx2
 
-import lugre_jax
 import run as R
 from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, Kinematics, baseline_from_params, predict
 
@@ -78,15 +76,7 @@ def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> 
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--study", choices=sorted(R.SETTINGS), required=True)
-    ap.add_argument("--cache", default=None, help="generated-recording cache (default <results>/<study>/cache)")
-    ap.add_argument("--out", default=None, help="output folder (default <results>/<study>)")
-    a = ap.parse_args()
-    lugre_jax.configure()
-    res = Path(__file__).resolve().with_name("results") / a.study
-    out = Path(a.out) if a.out else res
-    out.mkdir(parents=True, exist_ok=True)
+    a, res, out = R.study_cli(__doc__)
     runs = {}
     if (res / f"runs_{a.study}.jsonl").exists():
         runs = {d["key"]: d for d in map(json.loads, (res / f"runs_{a.study}.jsonl").read_text().splitlines())}

@@ -259,6 +259,26 @@ def true_params(job) -> dict:
     return {k: float(getattr(plant, k)) for k in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
 
 
+def study_cli(doc: str, *more) -> tuple[argparse.Namespace, Path, Path]:
+    """The per-study analysis scripts' options (``--study``, ``--cache``, ``--out``, and ``more``:
+    ``(flag, add_argument keywords)`` pairs), parsed, with lugre_jax configured; returns (args, the
+    study's results folder, the output folder, made)."""
+    import lugre_jax
+
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--study", choices=sorted(SETTINGS), required=True)
+    for flag, kw in more:
+        ap.add_argument(flag, **kw)
+    ap.add_argument("--cache", default=None, help="generated-recording cache (default <results>/<study>/cache)")
+    ap.add_argument("--out", default=None, help="output folder (default <results>/<study>)")
+    a = ap.parse_args()
+    lugre_jax.configure()
+    res = Path(__file__).resolve().with_name("results") / a.study
+    out = Path(a.out) if a.out else res
+    out.mkdir(parents=True, exist_ok=True)
+    return a, res, out
+
+
 def null_settings(n: int = 32):
     """``n`` effect-free settings: a deterministic walk through the grid, so that every value of
     every setting appears (not the full product)."""
