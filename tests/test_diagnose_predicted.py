@@ -72,3 +72,31 @@ def test_given_parameters_taken_as_an_estimate_keep_the_refit():
     assert taken.k == prep.k == len(M.baseline_specs(prep.base, M.data_scales(prep.rec), False)) > 0
     with pytest.raises(ValueError, match="refit"):
         diagnose(prep.rec_in, refit=True)
+
+
+def test_friction_smoothing_error_is_the_conditionings_blur_of_a_friction_driven_acceleration():
+    """Reference: the conditioning itself. A joint whose motor torque is linear in time and whose
+    friction switches sharply has the acceleration (u - f)/J; conditioned from its velocity (and from
+    its position), J times the conditioned acceleration's shortfall is the column, to rounding: the
+    filter passes the motor's part exactly and blurs the friction's switches."""
+    from types import SimpleNamespace
+
+    from scipy.integrate import cumulative_trapezoid
+
+    from lugre_jax.diagnose._condition import conditioned_kinematics, friction_smoothing_error
+
+    t = np.arange(0.0, 4.0, 1e-3)
+    J = 0.3
+    f = 1.2 * np.tanh(np.sin(2 * np.pi * 1.3 * t) / 0.02)  # reversals, sharp
+    u = 0.5 + 0.8 * t
+    a = (u - f) / J
+    v = np.concatenate([[0.0], cumulative_trapezoid(a, t)])
+    th = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
+    for source, blend in (("velocity", 0.0), ("velocity", -0.4), ("position", 0.3)):
+        cond = SimpleNamespace(source=source, window=41, order=3, blend=blend)
+        a_c = conditioned_kinematics(t, th, v, source, 41, 3, blend)[1]
+        col = friction_smoothing_error(t, f, cond)
+        inner = slice(100, -100)  # the filter's edge samples extrapolate
+        err = J * (a - a_c)  # what the residual keeps: the torque holds J*a, the model J*a_c
+        assert np.max(np.abs(err[inner])) > 0.1  # the blur is there
+        np.testing.assert_allclose(col[inner], err[inner], atol=1e-6 * np.max(np.abs(err)))

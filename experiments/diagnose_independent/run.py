@@ -2484,6 +2484,88 @@ def fresh32_settings():
     return _refreshed("fresh32", _F32_FS, _F32_VARIED, 19400)
 
 
+# calib35, outside10 and fresh33: the design with the acceleration's blur at the friction's fast
+# changes as a nuisance column and the attribution decided by its calibrated tests alone (issues #30,
+# #31); three plants no earlier set used
+BONEY = T.Plant(J=0.15, Fc=0.82, Fs=1.18, vs=0.048, sigma2=1.25, sigma0=215.0, sigma1=1.35)
+TUBBY = T.Plant(J=0.26, Fc=1.12, Fs=1.55, vs=0.058, sigma2=1.45, sigma0=250.0, sigma1=1.85)
+CHONKY = T.Plant(J=0.39, Fc=1.6, Fs=2.15, vs=0.069, sigma2=1.8, sigma0=310.0, sigma1=2.6)
+_add_plants({"boney": (BONEY, T.VelocityPIController(kp=6.8, ki=40.0)),
+             "tubby": (TUBBY, T.VelocityPIController(kp=14.0, ki=84.0)),
+             "chonky": (CHONKY, T.VelocityPIController(kp=26.0, ki=150.0))},
+            {"boney": T.PositionPIDController.tuned(0.15, 3.05, tf=0.002),
+             "tubby": T.PositionPIDController.tuned(0.26, 2.85, tf=0.004),
+             "chonky": T.PositionPIDController.tuned(0.39, 2.6, tf=0.005)})
+
+CALIB35_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.044, 0.16, 0.62, 1.6, 3.5), "dwell": 3.0 if i % 2 else 3.4,
+                            "transition": 0.32, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.0 + 0.45 * (i % 3), "f0": 0.052, "f1": 1.45, "duration": 36.0,
+                             "bias": 0.55 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.5 * (i % 2), "f0": 0.053, "f1": 1.2 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 36.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.1 * (i % 3), "frequency": 0.15 + 0.05 * (i % 2),
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.1, 2.4, -2.0, 1.8) if i % 2 else (-2.1, 2.5, -2.3, 2.2, -1.7, 1.5),
+                                 "move_time": 1.3 + 0.4 * (i % 2), "dwell": 2.5, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.055, 0.2, 0.65, 1.7, 3.5), "dwell": 2.5, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib35_settings(n: int = 24):
+    """A thirty-fifth effect-free set (issues #30, #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops (the position PID without feedforward in
+    every fourth row) x the three sensor sets, on three plants no earlier set used (BONEY, TUBBY,
+    CHONKY), 210-840 Hz, torque noise 0.058-0.07 N*m, white in half the rows and AR(1) of coefficient
+    0.6 or 0.7 in the other half, velocity noise 0.0036-0.0046 deg/s, quantisation 0.0007-0.001 deg;
+    seeds 19500 + i."""
+    return _effect_free_set("calib35", CALIB35_EXCITATIONS, ["boney", "tubby", "chonky"],
+                            [(True, True), (True, False), (False, True)], [210.0, 520.0, 840.0, 300.0, 680.0],
+                            [0.06, 0.07, 0.058], [0.0, 0.7, 0.0, 0.6], [0.0036, 0.0046], [0.0007, 0.001],
+                            19500, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=2, tn_rule=(1, 4))
+
+
+# outside10: outside9's rows on calib35's plants, at excitation parameters, rates and seeds no earlier
+# set used
+_OUT10_RECIPES = {
+    "a": ("boney", "pi", "multisine", {"amplitude": 2.3, "f0": 0.052, "f1": 1.6, "n": 12, "duration": 45.0},
+          470.0, 0.06, 0.0, 0.0032, 0.0009, True, True),
+    "b": ("chonky", "pid", "point_to_point", {"amplitudes": (2.9, -3.3, 3.2, -2.4, -2.5, 2.7), "move_time": 1.4,
+                                            "dwell": 2.7, "repeats": 2}, 430.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("boney", "pi", "staircase", {"speeds": (0.042, 0.15, 0.68, 2.2, 5.0, 7.5), "dwell": 3.4,
+                                      "transition": 0.4, "repeats": 1}, 365.0, 0.05, 0.0, 0.003, 0.001, True, True),
+    "d": ("tubby", "pid", "sine_sweep", {"amplitude": 2.9, "f0": 0.052, "f1": 1.35, "duration": 46.0, "bias": 0.6},
+          425.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("chonky", "pi", "multisine", {"amplitude": 2.3, "f0": 0.054, "f1": 1.5, "n": 11, "duration": 45.0},
+          455.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("tubby", "pid", "point_to_point", {"amplitudes": (-2.8, 3.3, -3.0, 2.6, 3.4, -3.1), "move_time": 1.4,
+                                           "dwell": 2.7, "repeats": 2}, 370.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("chonky", "pid_nff", "point_to_point", {"amplitudes": (3.1, -3.5, 2.8, -3.1, 2.2, 1.8), "move_time": 1.5,
+                                                "dwell": 2.6, "repeats": 2}, 335.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("boney", "pi", "staircase", {"speeds": (0.05, 0.15, 0.6, 2.1, 4.5), "dwell": 4.0, "transition": 0.4,
+                                      "repeats": 1}, 290.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside10_settings():
+    """A tenth outside set (issue #31), fixed and committed before its first run: outside9's rows (the
+    four effects outside the candidates, two recordings each, the lag a 1.4 ms) on BONEY, TUBBY and
+    CHONKY, at excitation parameters, rates and seeds (19600 + k) no earlier set used."""
+    return _outside_set("outside10_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT10_RECIPES, 19600)
+
+
+_F33_FS = {"a": 330.0, "b": 410.0, "c": 295.0, "d": 500.0, "e": 355.0, "f": 390.0, "g": 345.0, "h": 300.0,
+           "i": 420.0}
+_F33_VARIED = _varied(-0.5, 1.08, -2.2)
+
+
+def fresh33_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 295-500 Hz (by recipe), seeds 19700 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh33", _F33_FS, _F33_VARIED, 19700)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2516,6 +2598,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib30cells": calib30_cells_settings, "calib32pid": calib32pid_settings,
             "calib33": calib33_settings, "fresh31": fresh31_settings,
             "calib34": calib34_settings, "fresh32": fresh32_settings,
+            "calib35": calib35_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2697,7 +2780,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
-               "calib34", "fresh32")
+               "calib34", "fresh32", "calib35", "outside10", "fresh33")
 
 
 def main():

@@ -8,12 +8,10 @@ same simulated null as the candidates (:mod:`._calibrate`; the time line's frequ
 repeated on every draw), family-wise by min-P at the attribution's share of alpha, and keeps the
 most significant group only if its least-squares term, fitted on the training blocks, lowers the
 held-out RMSE significantly (its held-out gain against the same gain on every null draw,
-:func:`held_out_gains`, at the same share of alpha) and by a held-out share
-``sqrt(before^2 - after^2)`` of at least ``resolution`` (DiagnoseConfig, 0.15) of the per-sample noise floor. The tests
-alone are not enough: what the kinematics' errors (the true motion smoothed with its noise) leave
-through the model is more than the null's kinematic draws (measured signals re-noised, both paths
-smoothed alike) bring beyond their own Jacobian, and a long recording resolves it
-(docs/diagnosis.md, detection limits). The terms are linear in
+:func:`held_out_gains`, at the same share of alpha). What smoothing the true motion leaves through
+the model is held by the nuisance columns (the acceleration's blur where the friction changes fast:
+:func:`._condition.friction_smoothing_error`), so the calibrated tests alone decide; the held-out
+share ``sqrt(before^2 - after^2)`` is reported. The terms are linear in
 their coefficients, so the first-order gain is the exact least-squares gain.
 """
 
@@ -25,7 +23,6 @@ import numpy as np
 
 from . import _calibrate as C
 from . import _model as M
-from ._config import DiagnoseConfig
 
 
 @dataclasses.dataclass(frozen=True)
@@ -306,8 +303,7 @@ def _line_frequency(t, r, mask, lines=None) -> float:
 
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
-              at_floor_nm: float | None = None, motion=None, cond=None,
-              resolution: float = DiagnoseConfig.resolution) -> Attribution:
+              at_floor_nm: float | None = None, motion=None, cond=None) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
     ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. The time line is
     searched and fitted off the motion's lines ``motion`` (:func:`motion_lines`) that an error of
@@ -415,17 +411,14 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             p_held = float((1.0 + np.sum(d_null >= d_obs)) / (n_draws + 1.0))
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
-            # what the term removes from the held-out error, per sample: it must reach the resolution
-            # locate claims structure at (``resolution`` of the noise floor), above what the kinematics'
-            # errors leave through the model beyond the null's draws
+            # what the term removes from the held-out error, per sample (reported)
             share = float(np.sqrt(max(compared ** 2 - new ** 2, 0.0)))
-            least = resolution * float(ctx.scales.get("noise", 0.0))
-            if new < min(after, compared) and C.rejects(p_held, alpha) and share >= least:
+            if new < min(after, compared) and C.rejects(p_held, alpha):
                 taken = int(k), g, X, new, p_held, p_analytic, pred, beta, share
                 break
             tests[-1].append({"rejected": g.name,
                               "because": f"held-out RMSE {compared:.4g} -> {new:.4g}, p {p_held:.3g} "
-                                         f"(analytic {p_analytic:.3g}), share {share:.3g} (resolution {least:.3g})"})
+                                         f"(analytic {p_analytic:.3g}), share {share:.3g}"})
         if taken is None:
             break
         k, g, X, new, p_held, p_analytic, pred, beta, share = taken

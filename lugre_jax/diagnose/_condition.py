@@ -562,6 +562,27 @@ def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 
     return savgol_filter(x, 2 * W - 1, order, deriv=dv + 1, delta=float(np.median(np.diff(np.asarray(t, float)))))
 
 
+def friction_smoothing_error(t, friction, cond: "Conditioning") -> np.ndarray:
+    """What the inertial torque's smoothing leaves in an inverse model's residual where the friction
+    changes fast: ``J*(a - a_cond)`` for an acceleration ``a = (u - friction)/J`` whose motor torque
+    ``u`` is smooth (a controller's output), so that the acceleration carries the friction's own
+    sharp changes (a reversal's switch, a breakaway) and the conditioned one ``a_cond`` blurs them.
+    The filter (``cond``'s source, window, order and blend) is applied to the friction's integral
+    (twice for a position source): the result is its blur of ``friction`` less ``friction``."""
+    from scipy.integrate import cumulative_trapezoid
+
+    t = np.asarray(t, float)
+    f = np.asarray(friction, float)
+    dt = float(np.median(np.diff(t)))
+    x, deriv = np.concatenate([[0.0], cumulative_trapezoid(f, t)]), 1
+    if cond.source != "velocity":
+        x, deriv = np.concatenate([[0.0], cumulative_trapezoid(x, t)]), 2
+    a_w = savgol_filter(x, cond.window, cond.order, deriv=deriv, delta=dt)
+    if cond.blend:
+        a_w = a_w + cond.blend * (a_w - savgol_filter(x, 2 * cond.window - 1, cond.order, deriv=deriv, delta=dt))
+    return a_w - f
+
+
 def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict,
                           share: float = DiagnoseConfig.resolved_share) -> np.ndarray:
     """Samples where the whole model's torque changes by more than the resolved share when its

@@ -50,15 +50,12 @@ class DiagnoseConfig:
       physics outside the eight that a candidate partly absorbs is then left to the attribution; a
       correct candidate loses its name this way at most at ``alpha_name``.
     - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
-    - ``resolution`` (0.15): the smallest structure claimed, in units of the noise floor. Locate's
+    - ``resolution`` (0.15): the smallest structure locate claims, in units of the noise floor: its
       binned means, its cross-correlations with the velocity and its sign and the friction trend must
-      exceed it (their squared share, 0.0225, for the whiteness test), and a term of the attribution
-      must remove at least this share of the floor from the held-out RMSE. Below it sit the inverse
+      exceed it (their squared share, 0.0225, for the whiteness test). Below it sit the inverse
       model's own errors in variables at the slowest speeds, which leave means of that order even with
-      the true parameters, and what the kinematics' errors leave through the model beyond the null's
-      kinematic draws (0.03-0.13 of the floor on calib30's effect-free recordings, with the fitted or
-      the generator's parameters alike, none with exact kinematics; docs/diagnosis.md, detection
-      limits). 0 leaves the calibrated tests alone.
+      the true parameters. 0 leaves the calibrated tests alone. (The attribution's terms are decided by
+      their calibrated tests alone: what smoothing the true motion leaves is a nuisance column.)
     - ``shape_resolution`` (0.05): the friction-shape bands' margin beyond their errors-in-variables
       mean, in units of the noise floor (the bands average over many samples, so a smaller share of
       what the slowest speeds leave is enough).

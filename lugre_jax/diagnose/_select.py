@@ -509,15 +509,20 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
         kin_noise *= scale
     floor = float(np.hypot(cond.torque_noise, kin_noise))
     # the shapes a correct model's residual keeps in expectation, which no test may claim: the
-    # kinematics' systematic error (above) and the smoothing's bias, J times the change of the
-    # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by)
+    # kinematics' systematic error (above), the smoothing's bias, J times the change of the
+    # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by),
+    # and the smoothing's blur of the acceleration where the friction changes fast (the motor's
+    # torque is smooth, so the true acceleration carries the friction's switches; the kinematic
+    # draws, smoothed alike, do not hold it)
     nuisance = [eiv_bias]
     if cond.source != "recording" and 2 * cond.window - 1 < rec.n // 2:
-        from ._condition import wider_acceleration
+        from ._condition import friction_smoothing_error, wider_acceleration
 
         rin = prep.rec_in
         a2 = wider_acceleration(rin.time, rin.position, rin.velocity, cond.source, cond.window, cond.order)
         nuisance.append(np.where(split.keep, float(base.J) * (a_m - a2), 0.0))
+        blur = friction_smoothing_error(rec.time, _friction(base, kin), cond)
+        nuisance.append(np.where(split.keep, blur, 0.0))
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
@@ -798,8 +803,7 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
                      quantised_derivatives=_quantised_derivatives(prep.cond),
-                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond,
-                     resolution=cfg.resolution)
+                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
