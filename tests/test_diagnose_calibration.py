@@ -272,9 +272,6 @@ def test_padded_compilation_leaves_every_sample_unchanged():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="beyond the detection limit: the torque-rate term lowers the held-out "
-                   "RMSE by 1 % (0.0827 -> 0.0819 N*m), a share of 0.0120 N*m against the 0.0121 resolution "
-                   "(docs/diagnosis.md, detection limits)")
 def test_attribution_finds_an_actuator_lag():
     """A torque that reaches the joint through a 20-ms lag (outside the eight candidates), on a
     staircase at 200 Hz with noise 0.08 N*m: 'unexplained', attributed to the torque's rate with a

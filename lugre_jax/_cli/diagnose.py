@@ -44,9 +44,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--offset", action="store_true", help="fit a constant torque offset in the baseline")
     p.add_argument("--alpha", type=float, default=0.05, help="family-wise false-alarm rate")
     p.add_argument("--resolution", type=float, default=None, metavar="SHARE",
-                   help="smallest structure claimed, as a share of the noise floor (default 0.15): the margin "
-                        "of the located means and of an attributed term's held-out gain; 0 leaves the "
-                        "calibrated tests alone")
+                   help="smallest structure located, as a share of the noise floor (default 0.15): the margin "
+                        "of the located means; 0 leaves the calibrated tests alone")
     p.add_argument("--candidates", help="comma-separated subset of candidate ids (default: all)")
     p.add_argument("--block-s", type=float, default=None,
                    help="length of the validation/cluster time blocks in seconds "
