@@ -2525,6 +2525,12 @@ def calib35_settings(n: int = 24):
                             19500, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=2, tn_rule=(1, 4))
 
 
+def calib35v_settings():
+    """calib35's third sensor set (rows 24-35 of its design: the velocity sensor alone), which its 24
+    rows stop before; fixed and committed before its first run."""
+    return calib35_settings(36)[24:]
+
+
 # outside10: outside9's rows on calib35's plants, at excitation parameters, rates and seeds no earlier
 # set used
 _OUT10_RECIPES = {
@@ -2598,7 +2604,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib30cells": calib30_cells_settings, "calib32pid": calib32pid_settings,
             "calib33": calib33_settings, "fresh31": fresh31_settings,
             "calib34": calib34_settings, "fresh32": fresh32_settings,
-            "calib35": calib35_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
+            "calib35": calib35_settings, "calib35v": calib35v_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2780,7 +2786,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
-               "calib34", "fresh32", "calib35", "outside10", "fresh33")
+               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v")
 
 
 def main():
