@@ -567,20 +567,16 @@ def friction_smoothing_error(t, friction, cond: "Conditioning") -> np.ndarray:
     changes fast: ``J*(a - a_cond)`` for an acceleration ``a = (u - friction)/J`` whose motor torque
     ``u`` is smooth (a controller's output), so that the acceleration carries the friction's own
     sharp changes (a reversal's switch, a breakaway) and the conditioned one ``a_cond`` blurs them.
-    The filter (``cond``'s source, window, order and blend) is applied to the friction's integral
-    (twice for a position source): the result is its blur of ``friction`` less ``friction``."""
+    The conditioning itself (:func:`conditioned_kinematics`, ``cond``'s source, window, order and
+    blend) is applied to the friction's integral as a velocity and its double integral as a position:
+    the result is its blur of ``friction`` less ``friction``."""
     from scipy.integrate import cumulative_trapezoid
 
     t = np.asarray(t, float)
     f = np.asarray(friction, float)
-    dt = float(np.median(np.diff(t)))
-    x, deriv = np.concatenate([[0.0], cumulative_trapezoid(f, t)]), 1
-    if cond.source != "velocity":
-        x, deriv = np.concatenate([[0.0], cumulative_trapezoid(x, t)]), 2
-    a_w = savgol_filter(x, cond.window, cond.order, deriv=deriv, delta=dt)
-    if cond.blend:
-        a_w = a_w + cond.blend * (a_w - savgol_filter(x, 2 * cond.window - 1, cond.order, deriv=deriv, delta=dt))
-    return a_w - f
+    v = np.concatenate([[0.0], cumulative_trapezoid(f, t)])
+    theta = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
+    return conditioned_kinematics(t, theta, v, cond.source, cond.window, cond.order, cond.blend)[1] - f
 
 
 def model_bias_unresolved(rec_in, cond: "Conditioning", kin, predict,
