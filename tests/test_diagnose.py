@@ -79,10 +79,10 @@ REPORT_KEYS = ["recording", "baseline", "alpha", "kappa_long_run_variance", "ver
 RECORDING_KEYS = ["source", "n_samples", "units", "duration", "sample_rate_hz", "validation"]
 BASELINE_KEYS = ["params", "rmse_nm", "validation_rmse_nm", "fit", "noise_floor_nm", "torque_noise_nm",
                  "kinematic_noise_nm", "floor_ratio", "at_floor", "shortcoming", "conditioning",
-                 "unresolved_transient_fraction", "at_rest_fraction"]
+                 "unresolved_transient_fraction", "at_rest_fraction", "fixed_phase_rmse_nm"]
 REGION_KEYS = ("test", "region", "statistic", "p_value", "p_holm", "mean_residual", "ci95", "df", "n")
 FINDING_KEYS = ["name", "explanation", "params", "validation_rmse_nm", "delta_bic", "p_validation", "p_family"]
-IMPROVED_KEYS = ["params", "rmse_nm", "validation_rmse_nm"]
+IMPROVED_KEYS = ["params", "rmse_nm", "validation_rmse_nm", "fixed_phase_rmse_nm"]
 
 
 def test_diagnosis_to_json_is_the_report(tmp_path):

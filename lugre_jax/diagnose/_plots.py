@@ -79,7 +79,7 @@ def plot_report(report: Diagnosis, rec, outdir: str | os.PathLike) -> list[str]:
         ax.errorbar(c, m, s, fmt=".-", color="C3", lw=1, ms=3, label="binned mean, 95% CI")
         ax.axhline(0, color="k", lw=0.5)
         ax.set_ylabel(f"residual [{u['torque']}]")
-        ax.set_title(f"{lab}: residual vs time (validation RMSE "
+        ax.set_title(f"{lab}: residual vs time (held-out RMSE "
                      f"{(report.baseline if r is r0 else report.improved).validation_rmse_nm:.4g})")
         ax.legend(loc="upper right", fontsize=8)
     axs[1].set_xlabel(f"time [{u['time']}]")

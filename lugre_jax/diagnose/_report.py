@@ -35,11 +35,14 @@ class Baseline:
     """The fitted (or given) baseline model, torques in the recording's torque unit.
 
     ``params``: joint-model parameters (``J``, friction law's, ``offset``...; the format ``--params``
-    reads). ``rmse_nm`` / ``validation_rmse_nm``: residual RMS on the training / held-out samples.
+    reads). ``rmse_nm``: residual RMS on the training samples. ``validation_rmse_nm``: the held-out
+    RMSE, cross-validated over the block phases (each phase predicted by a refit that did not see
+    it; the selection's held-out test compares these). ``fixed_phase_rmse_nm``: the RMSE on the
+    fixed held-out phase alone (the model as fitted, without that phase).
     ``fit``: the solver's record (result, steps, starts, bristle_path). ``noise_floor_nm``: per-sample
     noise estimated from the data, ``torque_noise_nm`` and ``kinematic_noise_nm`` its two parts (the
     torque channel's, and what the conditioned velocity and acceleration carry through the model);
-    ``floor_ratio`` = validation RMSE / floor, ``at_floor`` when it is at most ``AT_FLOOR`` (1.1),
+    ``floor_ratio`` = fixed-phase RMSE / floor, ``at_floor`` when it is at most ``AT_FLOOR`` (1.1),
     else ``shortcoming`` says why located structure may be the baseline's own misfit.
     ``conditioning``: how the kinematics were conditioned (``Conditioning.to_json()``);
     ``unresolved_transient_fraction``: share of samples left out as unresolved (transients the
@@ -61,6 +64,7 @@ class Baseline:
     conditioning: dict
     unresolved_transient_fraction: float
     at_rest_fraction: float = 0.0
+    fixed_phase_rmse_nm: float | None = None
 
     def to_json(self) -> dict:
         return {"params": self.params, "rmse_nm": self.rmse_nm, "validation_rmse_nm": self.validation_rmse_nm,
@@ -68,7 +72,7 @@ class Baseline:
                 "kinematic_noise_nm": self.kinematic_noise_nm, "floor_ratio": self.floor_ratio,
                 "at_floor": self.at_floor, "shortcoming": self.shortcoming, "conditioning": self.conditioning,
                 "unresolved_transient_fraction": self.unresolved_transient_fraction,
-                "at_rest_fraction": self.at_rest_fraction}
+                "at_rest_fraction": self.at_rest_fraction, "fixed_phase_rmse_nm": self.fixed_phase_rmse_nm}
 
 
 # Keys a located region may carry, in REPORT.json's order; the last four come from the binned
@@ -121,7 +125,8 @@ class Finding:
     ``{"regions": [...], "attribution": {...}}``, the located regions left, as
     :meth:`Region.to_json`, at most 10, and what the residual follows, ``Diagnosis.attribution``);
     ``validation_rmse_nm``: held-out RMSE of the model at the step that accepted it (it and the
-    findings before it, on the fixed held-out phase). The evidence it was accepted on at that step
+    findings before it; cross-validated over the block phases, as ``Baseline.validation_rmse_nm``;
+    for ``unexplained``, the final model's). The evidence it was accepted on at that step
     (``None`` for ``unexplained``, which is not a fit): ``p_family``, its gain against the null
     simulated for the recording, family-wise over the step's candidates (below a third of alpha);
     ``p_validation``, the held-out test cross-validated over the block phases (below a third of
@@ -151,15 +156,18 @@ class Finding:
 @dataclasses.dataclass(frozen=True)
 class Improved:
     """The baseline with every accepted finding, refitted jointly: ``params`` (the joint model's,
-    plus one entry per candidate id with its ``describe()``), ``rmse_nm`` on the training samples
-    and ``validation_rmse_nm``. Equal to the baseline's when nothing was accepted."""
+    plus one entry per candidate id with its ``describe()``), ``rmse_nm`` on the training samples,
+    ``validation_rmse_nm`` and ``fixed_phase_rmse_nm`` as the baseline's. Equal to the baseline's
+    when nothing was accepted."""
 
     params: dict
     rmse_nm: float
     validation_rmse_nm: float
+    fixed_phase_rmse_nm: float | None = None
 
     def to_json(self) -> dict:
-        return {"params": self.params, "rmse_nm": self.rmse_nm, "validation_rmse_nm": self.validation_rmse_nm}
+        return {"params": self.params, "rmse_nm": self.rmse_nm, "validation_rmse_nm": self.validation_rmse_nm,
+                "fixed_phase_rmse_nm": self.fixed_phase_rmse_nm}
 
 
 @dataclasses.dataclass(frozen=True)
