@@ -2572,6 +2572,58 @@ def fresh33_settings():
     return _refreshed("fresh33", _F33_FS, _F33_VARIED, 19700)
 
 
+# calib36 and fresh34: the held-out error reported and tested cross-validated over the block phases,
+# with no separate rule on the fixed phase (issue #30); three plants no earlier set used
+PETITE = T.Plant(J=0.11, Fc=0.7, Fs=1.02, vs=0.044, sigma2=1.1, sigma0=190.0, sigma1=1.2)
+BRICKY = T.Plant(J=0.2, Fc=0.95, Fs=1.38, vs=0.052, sigma2=1.35, sigma0=235.0, sigma1=1.6)
+ROTUNDA = T.Plant(J=0.32, Fc=1.35, Fs=1.85, vs=0.063, sigma2=1.6, sigma0=280.0, sigma1=2.2)
+_add_plants({"petite": (PETITE, T.VelocityPIController(kp=5.0, ki=30.0)),
+             "bricky": (BRICKY, T.VelocityPIController(kp=10.0, ki=60.0)),
+             "rotunda": (ROTUNDA, T.VelocityPIController(kp=19.0, ki=112.0))},
+            {"petite": T.PositionPIDController.tuned(0.11, 3.2, tf=0.002),
+             "bricky": T.PositionPIDController.tuned(0.2, 2.95, tf=0.003),
+             "rotunda": T.PositionPIDController.tuned(0.32, 2.7, tf=0.004)})
+
+CALIB36_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.05, 0.18, 0.7, 1.9, 3.8), "dwell": 2.8 if i % 2 else 3.2,
+                            "transition": 0.28, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.05, "f1": 1.55, "duration": 35.0,
+                             "bias": 0.5 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.6 * (i % 2), "f0": 0.051, "f1": 1.15 + 0.35 * (i % 3),
+                            "n": 12 + 2 * (i % 2), "duration": 35.0},
+    "position_sine": lambda i: {"amplitude": 2.4 + 2.3 * (i % 3), "frequency": 0.16 + 0.05 * (i % 2),
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (2.5, -2.2, 2.1, -2.4, 1.6) if i % 2 else (-2.4, 2.2, -2.6, 2.0, -1.9, 1.7),
+                                 "move_time": 1.2 + 0.45 * (i % 2), "dwell": 2.4, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.06, 0.22, 0.7, 1.8, 3.6), "dwell": 2.4, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib36_settings(n: int = 24):
+    """A thirty-sixth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds with other parameters x both loops (the position PID without feedforward in
+    every fourth row), the position sensor alone in rows 0-11 and the velocity sensor alone in rows
+    12-23, on three plants no earlier set used (PETITE, BRICKY, ROTUNDA), 240-760 Hz, torque noise
+    0.055-0.075 N*m, white in half the rows and AR(1) of coefficient 0.5 or 0.75 in the other half,
+    velocity noise 0.0034-0.0044 deg/s, quantisation 0.0008-0.0011 deg; seeds 19900 + i."""
+    return _effect_free_set("calib36", CALIB36_EXCITATIONS, ["petite", "bricky", "rotunda"],
+                            [(True, False), (False, True), (True, True)], [240.0, 610.0, 380.0, 760.0, 450.0],
+                            [0.065, 0.055, 0.075], [0.0, 0.5, 0.0, 0.75], [0.0034, 0.0044], [0.0008, 0.0011],
+                            19900, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=3, tn_rule=(2, 4))
+
+
+_F34_FS = {"a": 360.0, "b": 285.0, "c": 440.0, "d": 310.0, "e": 475.0, "f": 335.0, "g": 405.0, "h": 370.0,
+           "i": 320.0}
+_F34_VARIED = _varied(1.6, 0.92, 2.6)
+
+
+def fresh34_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 285-475 Hz (by recipe), seeds 19800 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh34", _F34_FS, _F34_VARIED, 19800)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2605,6 +2657,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib33": calib33_settings, "fresh31": fresh31_settings,
             "calib34": calib34_settings, "fresh32": fresh32_settings,
             "calib35": calib35_settings, "calib35v": calib35v_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
+            "calib36": calib36_settings, "fresh34": fresh34_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2786,7 +2839,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
-               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v")
+               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34")
 
 
 def main():
