@@ -76,8 +76,15 @@ def library(ctx, kin, model_torque, window: int) -> list[tuple[TermGroup, np.nda
                    "grows with the transmitted torque: load-dependent (mesh, screw) friction",
                    "falls with the transmitted torque: friction that lessens under load"),
          (np.abs(model_torque) * np.tanh(v / (0.01 * V)))[:, None]),
+        # the measured torque leading the joint's by d adds d*(J*jerk + dF/dt): a lag or delay reads
+        # here as well as in the torque's rate, and on a heavy joint the smooth jerk fits it better
+        # than the differentiated, noisy torque; a compliant transmission adds the fourth
+        # derivative instead (J_load^2/k), not the jerk
         (TermGroup("jerk", ("jerk",), (f"{T}*{tu}^3/{pu}",),
-                   "follows the jerk: a compliant transmission or an unmodelled resonance"), jerk[:, None]),
+                   "follows the jerk: the torque reaches the joint late (actuator dynamics or a delay, "
+                   "lag about coefficient / J) or the kinematics are recorded late against the torque",
+                   "falls with the jerk: the torque is recorded late against the kinematics (a torque "
+                   "sensor's or filter's delay, about -coefficient / J)"), jerk[:, None]),
         (TermGroup("time", ("t - t_mid",), (f"{T}/{tu}",),
                    "drifts with time: a slowly changing offset (temperature, a sensor's drift)"),
          (t - 0.5 * (t[0] + t[-1]))[:, None]),
