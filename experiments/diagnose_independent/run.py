@@ -2624,6 +2624,35 @@ def fresh34_settings():
     return _refreshed("fresh34", _F34_FS, _F34_VARIED, 19800)
 
 
+# outside11: outside10's rows on calib36's plants, at excitation parameters, rates and seeds no earlier
+# set used
+_OUT11_RECIPES = {
+    "a": ("petite", "pi", "multisine", {"amplitude": 2.2, "f0": 0.053, "f1": 1.55, "n": 13, "duration": 44.0},
+          445.0, 0.06, 0.0, 0.0034, 0.0009, True, True),
+    "b": ("rotunda", "pid", "point_to_point", {"amplitudes": (3.1, -2.9, 3.4, -2.6, -2.3, 2.5), "move_time": 1.45,
+                                             "dwell": 2.6, "repeats": 2}, 455.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("petite", "pi", "staircase", {"speeds": (0.045, 0.16, 0.72, 2.3, 5.2, 7.8), "dwell": 3.3,
+                                       "transition": 0.38, "repeats": 1}, 380.0, 0.05, 0.0, 0.003, 0.001, True, True),
+    "d": ("bricky", "pid", "sine_sweep", {"amplitude": 2.7, "f0": 0.05, "f1": 1.4, "duration": 45.0, "bias": 0.55},
+          410.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("rotunda", "pi", "multisine", {"amplitude": 2.4, "f0": 0.052, "f1": 1.45, "n": 12, "duration": 44.0},
+          470.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("bricky", "pid", "point_to_point", {"amplitudes": (-3.0, 3.1, -2.8, 2.7, 3.2, -3.3), "move_time": 1.35,
+                                            "dwell": 2.8, "repeats": 2}, 355.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("rotunda", "pid_nff", "point_to_point", {"amplitudes": (3.3, -3.2, 2.9, -3.4, 2.1, 1.9), "move_time": 1.55,
+                                                 "dwell": 2.5, "repeats": 2}, 320.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("petite", "pi", "staircase", {"speeds": (0.055, 0.16, 0.62, 2.0, 4.3), "dwell": 3.9, "transition": 0.42,
+                                       "repeats": 1}, 305.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside11_settings():
+    """An eleventh outside set (issue #31), fixed and committed before its first run: outside10's rows
+    (the four effects outside the candidates, two recordings each, the lag a 1.4 ms) on PETITE, BRICKY
+    and ROTUNDA, at excitation parameters, rates and seeds (20000 + k) no earlier set used."""
+    return _outside_set("outside11_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT11_RECIPES, 20000)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2657,7 +2686,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib33": calib33_settings, "fresh31": fresh31_settings,
             "calib34": calib34_settings, "fresh32": fresh32_settings,
             "calib35": calib35_settings, "calib35v": calib35v_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
-            "calib36": calib36_settings, "fresh34": fresh34_settings,
+            "calib36": calib36_settings, "fresh34": fresh34_settings, "outside11": outside11_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2839,7 +2868,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
-               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34")
+               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11")
 
 
 def main():
