@@ -257,7 +257,8 @@ def _held_out(X, base, r, rows, val, blocks):
 class Attribution:
     """The terms found, in order: each group's name, labels, coefficients, units, reading, its
     family-wise p-value and gain; the held-out RMSE before and after the terms (least squares on the
-    training blocks); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
+    training blocks; on the fixed held-out phase, so ``before`` is ``Improved.fixed_phase_rmse_nm``,
+    not the cross-validated ``validation_rmse_nm``); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
     term, every sample): the term's torque in the joint least squares of all terms with the model's
     linearised refit on the training blocks, and the residual with that refit and the other terms
     taken out (a partial residual: what the term is fitted to, which its coefficient alone against
