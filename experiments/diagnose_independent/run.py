@@ -2653,6 +2653,85 @@ def outside11_settings():
     return _outside_set("outside11_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT11_RECIPES, 20000)
 
 
+# calib37, outside12 and fresh35: the attribution held out over the block phases as the selection's
+# test (issue #31); three plants no earlier set used
+KNOBBY = T.Plant(J=0.13, Fc=0.76, Fs=1.1, vs=0.047, sigma2=1.15, sigma0=205.0, sigma1=1.3)
+LUMPY = T.Plant(J=0.23, Fc=1.05, Fs=1.46, vs=0.055, sigma2=1.4, sigma0=245.0, sigma1=1.7)
+SLIGHT = T.Plant(J=0.09, Fc=0.62, Fs=0.94, vs=0.041, sigma2=1.02, sigma0=180.0, sigma1=1.05)
+_add_plants({"knobby": (KNOBBY, T.VelocityPIController(kp=6.0, ki=35.0)),
+             "lumpy": (LUMPY, T.VelocityPIController(kp=12.0, ki=72.0)),
+             "slight": (SLIGHT, T.VelocityPIController(kp=4.2, ki=25.0))},
+            {"knobby": T.PositionPIDController.tuned(0.13, 3.1, tf=0.002),
+             "lumpy": T.PositionPIDController.tuned(0.23, 2.9, tf=0.003),
+             "slight": T.PositionPIDController.tuned(0.09, 3.3, tf=0.002)})
+
+CALIB37_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.047, 0.17, 0.66, 1.75, 3.6), "dwell": 2.9 if i % 2 else 3.3,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.1 + 0.4 * (i % 3), "f0": 0.051, "f1": 1.5, "duration": 34.0,
+                             "bias": 0.6 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.5 * (i % 2), "f0": 0.052, "f1": 1.1 + 0.3 * (i % 3),
+                            "n": 11 + 2 * (i % 2), "duration": 34.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.0 * (i % 3), "frequency": 0.15 + 0.06 * (i % 2),
+                                "duration": 32.0},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.4, 2.6, -2.1, 1.7) if i % 2 else (-2.3, 2.4, -2.2, 2.1, -1.8, 1.6),
+                                 "move_time": 1.25 + 0.4 * (i % 2), "dwell": 2.3, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.058, 0.21, 0.68, 1.75, 3.7), "dwell": 2.3, "transition": 0.0, "repeats": 2},
+}
+
+
+def calib37_settings(n: int = 24):
+    """A thirty-seventh effect-free set (issue #31), fixed and committed before its first run: the
+    six excitation kinds with other parameters x both loops (the position PID without feedforward in
+    every fourth row), position and velocity sensors in rows 0-11 and the velocity sensor alone in
+    rows 12-23, on three plants no earlier set used (KNOBBY, LUMPY, SLIGHT), 230-790 Hz, torque
+    noise 0.05-0.07 N*m, white in half the rows and AR(1) of coefficient 0.55 or 0.7 in the other
+    half, velocity noise 0.0032-0.0042 deg/s, quantisation 0.0007-0.001 deg; seeds 20100 + i."""
+    return _effect_free_set("calib37", CALIB37_EXCITATIONS, ["knobby", "lumpy", "slight"],
+                            [(True, True), (False, True), (True, False)], [230.0, 590.0, 350.0, 790.0, 470.0],
+                            [0.06, 0.05, 0.07], [0.0, 0.55, 0.0, 0.7], [0.0032, 0.0042], [0.0007, 0.001],
+                            20100, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=1, tn_rule=(1, 3))
+
+
+_OUT12_RECIPES = {
+    "a": ("knobby", "pi", "multisine", {"amplitude": 2.3, "f0": 0.051, "f1": 1.5, "n": 12, "duration": 43.0},
+          460.0, 0.06, 0.0, 0.0033, 0.0009, True, True),
+    "b": ("lumpy", "pid", "point_to_point", {"amplitudes": (3.0, -3.1, 3.3, -2.7, -2.4, 2.6), "move_time": 1.4,
+                                           "dwell": 2.65, "repeats": 2}, 440.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("slight", "pi", "staircase", {"speeds": (0.043, 0.155, 0.7, 2.25, 5.1, 7.6), "dwell": 3.35,
+                                       "transition": 0.39, "repeats": 1}, 370.0, 0.05, 0.0, 0.003, 0.001, True, True),
+    "d": ("lumpy", "pid", "sine_sweep", {"amplitude": 2.8, "f0": 0.051, "f1": 1.38, "duration": 45.5, "bias": 0.58},
+          415.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("knobby", "pi", "multisine", {"amplitude": 2.35, "f0": 0.053, "f1": 1.48, "n": 11, "duration": 44.5},
+          465.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("lumpy", "pid", "point_to_point", {"amplitudes": (-2.9, 3.2, -2.9, 2.65, 3.3, -3.2), "move_time": 1.38,
+                                           "dwell": 2.75, "repeats": 2}, 360.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("knobby", "pid_nff", "point_to_point", {"amplitudes": (3.2, -3.3, 2.85, -3.25, 2.15, 1.85), "move_time": 1.52,
+                                                "dwell": 2.55, "repeats": 2}, 325.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("slight", "pi", "staircase", {"speeds": (0.052, 0.155, 0.61, 2.05, 4.4), "dwell": 3.95, "transition": 0.41,
+                                       "repeats": 1}, 298.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside12_settings():
+    """A twelfth outside set (issue #31), fixed and committed before its first run: outside10's rows
+    (the four effects outside the candidates, two recordings each, the lag a 1.4 ms) on KNOBBY, LUMPY
+    and SLIGHT, at excitation parameters, rates and seeds (20200 + k) no earlier set used."""
+    return _outside_set("outside12_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT12_RECIPES, 20200)
+
+
+_F35_FS = {"a": 345.0, "b": 395.0, "c": 305.0, "d": 460.0, "e": 325.0, "f": 415.0, "g": 355.0, "h": 290.0,
+           "i": 385.0}
+_F35_VARIED = _varied(-1.3, 1.12, 1.7)
+
+
+def fresh35_settings():
+    """A fresh set (issues #30, #31), fixed and committed before its first run: fresh3's effect rows
+    k with k odd (12 rows, every effect), at 290-460 Hz (by recipe), seeds 20300 + k, with the
+    gravity's phase, the asymmetry's sign and the ripple's period and phase changed."""
+    return [r for k, r in enumerate(_refreshed("fresh35", _F35_FS, _F35_VARIED, 20300)) if k % 2 == 1]
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2687,6 +2766,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib34": calib34_settings, "fresh32": fresh32_settings,
             "calib35": calib35_settings, "calib35v": calib35v_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
             "calib36": calib36_settings, "fresh34": fresh34_settings, "outside11": outside11_settings,
+            "calib37": calib37_settings, "outside12": outside12_settings, "fresh35": fresh35_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2868,7 +2948,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
-               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11")
+               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35")
 
 
 def main():
