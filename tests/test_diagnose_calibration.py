@@ -252,39 +252,6 @@ def test_the_attributions_observed_held_out_statistic_is_the_null_draws_one():
     assert np.sum(r[val] ** 2) - new ** 2 * val.sum() > 50 * np.max(null)
 
 
-def test_the_attributions_cross_validated_statistic_is_per_fold_least_squares():
-    """Over the block-phase folds every kept sample is held out once by a fit that never sees it;
-    the held-out RMSE is numpy's least squares fold by fold; the observed statistic is the one the
-    null draws get; with one fold it is the fixed split's; a real term beats 199 draws."""
-    from lugre_jax.diagnose._attribute import (_held_out, _held_out_cv, cross_validated_gains,
-                                               cross_validation_splits)
-
-    rng = np.random.default_rng(11)
-    n = 3000
-    t = np.arange(n) / 100.0
-    blocks = (t // 1.0).astype(int)
-    keep = np.ones(n, bool)
-    keep[::37] = False
-    splits = cross_validation_splits(keep, blocks, (0, 1, 3, 4, 2))
-    assert np.array_equal(np.sum([h for _, h in splits], axis=0), keep.astype(int))
-    assert not any(np.any(f & h) for f, h in splits)
-    base = np.column_stack([np.ones(n), t - t.mean()])
-    X = np.sin(2 * np.pi * 0.37 * t)[:, None]
-    r = 0.3 * X[:, 0] + rng.standard_normal(n)
-    rows = splits[4][0]
-    new, d_obs, _, _, _ = _held_out_cv(X, base, r, rows, splits, blocks)
-    r1 = np.zeros(n)
-    for fit, held in splits:
-        D = np.column_stack([base, X])
-        r1[held] = (r - D @ np.linalg.lstsq(D[fit], r[fit], rcond=None)[0])[held]
-    assert new == pytest.approx(np.sqrt(np.mean(r1[keep] ** 2)), rel=1e-12)
-    assert d_obs == pytest.approx(cross_validated_gains(base, X, r[None, :], splits)[0], rel=1e-9)
-    assert _held_out_cv(X, base, r, rows, [splits[4]], blocks)[1] == pytest.approx(
-        _held_out(X, base, r, rows, splits[4][1], blocks)[1], rel=1e-12)
-    null = cross_validated_gains(base, X, rng.standard_normal((199, n)), splits)
-    assert np.mean(null >= d_obs) < 0.01
-
-
 def test_padded_compilation_leaves_every_sample_unchanged():
     """The inverse model evaluated on kinematics padded to the compile bucket equals the unpadded
     evaluation on the recording's own samples (to 1e-12 relative), with a drift candidate, whose

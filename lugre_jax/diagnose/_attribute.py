@@ -218,30 +218,14 @@ def kinematic_lines(model, kin, t, r, rows, freqs, cond) -> np.ndarray | None:
     return lines[:, keep] if keep.any() else None
 
 
-def cross_validation_splits(keep, blocks, folds) -> list:
-    """The folds of a cross-validation over the block phases: ``(fit, held)`` masks, each phase of
-    ``folds`` held out from a fit on the other kept samples (as the selection's held-out test)."""
-    phase = np.asarray(blocks) % M.VALIDATION_EVERY
-    return [(keep & (phase != j), keep & (phase == j)) for j in folds]
-
-
 def held_out_gains(base, X, E, rows, val) -> np.ndarray:
     """The held-out statistic ``sum_val(r0^2 - r1^2)`` on every null draw (rows of ``E``, every
     sample): ``r0`` the draw less its least-squares fit on the training ``rows`` by ``base``'s
     columns (the current model's linearised refit and the terms already in), ``r1`` the same with
     the term's columns ``X`` added. Its law under the null, for the recording's own noise colour,
     kinematic errors and blocks, in place of a normal approximation with few validation blocks."""
-    return cross_validated_gains(base, X, E, [(rows, val)])
-
-
-def cross_validated_gains(base, X, E, splits) -> np.ndarray:
-    """:func:`held_out_gains` summed over the ``(fit, held)`` folds ``splits``."""
-    D = np.column_stack([base, X])
-    out = np.zeros(E.shape[0])
-    for fit, held in splits:
-        if held.any():
-            out += np.sum(_val_residual(base, E, fit, held) ** 2 - _val_residual(D, E, fit, held) ** 2, axis=0)
-    return out
+    r0 = _val_residual(base, E, rows, val)
+    return np.sum(r0 ** 2 - _val_residual(np.column_stack([base, X]), E, rows, val) ** 2, axis=0)
 
 
 def _val_residual(D, E, rows, val):
@@ -252,45 +236,29 @@ def _val_residual(D, E, rows, val):
     return E[:, val].T - D[val] @ (P @ E[:, rows].T)
 
 
-def _cv_residual(D, r, splits) -> np.ndarray:
-    """``r`` less its least-squares fit by ``D``'s columns, each fold's held samples from the fit on
-    its other samples; 0 outside the folds."""
-    out = np.zeros(r.shape)
-    for fit, held in splits:
-        if held.any():
-            out[held] = (r - D @ np.linalg.lstsq(D[fit], r[fit], rcond=None)[0])[held]
-    return out
-
-
 def _held_out(X, base, r, rows, val, blocks):
-    """:func:`_held_out_cv` with one fold: fitted on ``rows``, held out ``val``."""
-    return _held_out_cv(X, base, r, rows, [(rows, val)], blocks)
-
-
-def _held_out_cv(X, base, r, rows, splits, blocks):
-    """The term ``X`` with the ``base`` columns (the model's linearised refit and the terms already
-    in) against ``base`` alone, each fitted on every fold's fit samples and predicting its held
-    ones (``splits``, :func:`cross_validation_splits`): (held-out RMSE, its statistic
-    ``sum_held(r0^2 - r1^2)``, the statistic :func:`cross_validated_gains` computes on every null
-    draw, the analytic p, and the prediction and coefficients of the fit on the training ``rows``,
-    which the report and the figure give). A model short of its least-squares optimum thus credits
-    no term with its own refit's gain."""
+    """The term ``X`` fitted on the training ``rows`` with the ``base`` columns (the model's
+    linearised refit and the terms already in), predicted on the held-out ``val``, against ``base``
+    alone fitted so (``r0``): (held-out RMSE, its statistic ``sum_val(r0^2 - (r - pred)^2)``, the
+    statistic :func:`held_out_gains` computes on every null draw, the analytic p, the prediction,
+    the coefficients). A model short of its least-squares optimum thus credits no term with its
+    own refit's gain."""
     Xall = np.column_stack([base, X])
     beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
-    mask = np.any([held for _, held in splits], axis=0)
-    r0, r1 = _cv_residual(base, r, splits), _cv_residual(Xall, r, splits)
-    new = float(np.sqrt(np.mean(r1[mask] ** 2)))
-    p_analytic = C.held_out_p(r0, r1, blocks, mask)
-    d_obs = float(np.sum(r0[mask] ** 2 - r1[mask] ** 2))
-    return new, d_obs, p_analytic, Xall @ beta, beta
+    pred = Xall @ beta
+    r0 = r - base @ np.linalg.lstsq(base[rows], r[rows], rcond=None)[0]
+    new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
+    p_analytic = C.held_out_p(r0, r - pred, blocks, val)
+    d_obs = float(np.sum(r0[val] ** 2 - (r - pred)[val] ** 2))
+    return new, d_obs, p_analytic, pred, beta
 
 
 @dataclasses.dataclass(frozen=True)
 class Attribution:
     """The terms found, in order: each group's name, labels, coefficients, units, reading, its
     family-wise p-value and gain; the held-out RMSE before and after the terms (least squares on the
-    training blocks; cross-validated over the block phases as the report's, so ``before`` is
-    ``Improved.validation_rmse_nm``; a term's with the model's linearised refit); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
+    training blocks; on the fixed held-out phase, so ``before`` is ``Improved.fixed_phase_rmse_nm``,
+    not the cross-validated ``validation_rmse_nm``); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
     term, every sample): the term's torque in the joint least squares of all terms with the model's
     linearised refit on the training blocks, and the residual with that refit and the other terms
     taken out (a partial residual: what the term is fitted to, which its coefficient alone against
@@ -341,10 +309,9 @@ def _line_frequency(t, r, mask, lines=None) -> float:
     return float(_time_line_freqs(t, np.where(mask, r, 0.0)[None, :], mask)[0])
 
 
-def attribute(model, specs, ctx, kin, rows, splits, blocks, null, n_draws: int, alpha: float, window: int,
+def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
-              at_floor_nm: float | None = None, motion=None, cond=None,
-              before_nm: float | None = None) -> Attribution:
+              at_floor_nm: float | None = None, motion=None, cond=None) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
     ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. The time line is
     searched and fitted off the motion's lines ``motion`` (:func:`motion_lines`) that an error of
@@ -381,16 +348,12 @@ def attribute(model, specs, ctx, kin, rows, splits, blocks, null, n_draws: int, 
     chosen_i: list = []  # library index of each chosen group (None: the time line, at its frequency)
     tests = []
     terms = []
-    # held out: each fold of ``splits`` (:func:`cross_validation_splits`) predicted by a fit on the
-    # others; ``before_nm`` the model's own cross-validated RMSE (the report's), else its residual's
-    val = np.any([held for _, held in splits], axis=0)
-    before = (float(before_nm) if before_nm is not None
-              else float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan"))
+    before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
     after = before
     joint = None  # the last accepted step's fit: every chosen term with the refit columns
     # a term is compared on the held-out blocks with the model's own linearised refit (its Jacobian
     # and nuisance columns fitted on the training rows), as on every null draw (_held_out)
-    r0 = _cv_residual(JB, r, splits)
+    r0 = r - JB @ np.linalg.lstsq(JB[rows], r[rows], rcond=None)[0]
     compared = float(np.sqrt(np.mean(r0[val] ** 2))) if val.any() else float("nan")
     line_f = None
 
@@ -445,14 +408,14 @@ def attribute(model, specs, ctx, kin, rows, splits, blocks, null, n_draws: int, 
         base = np.column_stack([JB] + [Xc for _, Xc in chosen])
         for k in sig[np.argsort(-excess[sig])]:
             g, X = cands[k]
-            new, d_obs, p_analytic, pred, beta = _held_out_cv(X, base, r, rows, splits, blocks)
+            new, d_obs, p_analytic, pred, beta = _held_out(X, base, r, rows, val, blocks)
             # its law on the draws, each with its own columns (and, for the time line, its own line)
             d_null = np.empty(n_draws)
             for d in range(n_draws):
                 cols = columns(d)
                 base_d = np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols))
                 X_d = cols[idx[k]] if idx[k] is not None else line_at(fb[d])
-                d_null[d] = cross_validated_gains(base_d, X_d, E[d:d + 1], splits)[0]
+                d_null[d] = held_out_gains(base_d, X_d, E[d:d + 1], rows, val)[0]
             p_held = float((1.0 + np.sum(d_null >= d_obs)) / (n_draws + 1.0))
             if at_floor_nm is not None and new > at_floor_nm:
                 p_held = max(p_held, p_analytic)

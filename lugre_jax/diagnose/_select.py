@@ -797,11 +797,11 @@ def diagnose(rec, *, params: dict | None = None, refit: bool = False, friction: 
     current, r_cur = final.model, final.r
     loc_cur = (_locate(prep, split, floor, cfg, current, r_cur, flags,
                        _val_rmse(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
+    attribution = _attribute(prep, split, floor, cfg, current, r_cur, fit_offset, frozen)
     # the held-out error reported: cross-validated over the block phases, as the selection's test
     tau = np.asarray(prep.rec.torque)
     cv = (_val_rmse(start.cross_validated(prep.kin, tau, split, cfg), split.cv_mask),
           _val_rmse(final.cross_validated(prep.kin, tau, split, cfg), split.cv_mask))
-    attribution = _attribute(prep, split, floor, cfg, current, r_cur, fit_offset, frozen, cv[1])
     return _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
                    cv, t_start)
 
@@ -811,21 +811,17 @@ def _window(prep) -> int:
     return prep.cond.window if prep.cond.source != "recording" else 5
 
 
-def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen, before_nm):
-    """What the residual left by the selection follows, from the term library (:mod:`._attribute`),
-    held out over the block phases as the selection's test (``before_nm``: the model's
-    cross-validated RMSE)."""
-    from ._attribute import attribute, cross_validation_splits
+def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
+    """What the residual left by the selection follows, from the term library (:mod:`._attribute`)."""
+    from ._attribute import attribute
 
     ctx = _context(prep, split, floor, model, r, cfg)
     window = _window(prep)
-    splits = cross_validation_splits(split.keep, split.blocks, split.folds)
     return attribute(model, _all_specs(model, floor.scales, fit_offset, freeze_baseline=frozen), ctx, prep.kin, split.rows,
-                     splits, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
+                     split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
                      quantised_derivatives=_quantised_derivatives(prep.cond),
-                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond,
-                     before_nm=before_nm)
+                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
