@@ -626,10 +626,11 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     tau = np.asarray(prep.rec.torque)
     kin, w, keep, val = prep.kin, split.w, split.keep, split.val
     scales = floor.scales
-    current, r_cur, cur_ref = start.model, start.r, start
+    cur_ref = start
     accepted, log = [], []
     bar = tqdm(total=cfg.max_effects, desc="select", disable=not progress, leave=False)
     while len(accepted) < cfg.max_effects:
+        current, r_cur = cur_ref.model, cur_ref.r
         names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
         ctx = _context(prep, split, floor, current, r_cur, cfg)
         specs_cur = _all_specs(current, scales, fit_offset, freeze_baseline=frozen)
@@ -676,7 +677,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             if why is None and not zmax >= cfg.identifiability_z:
                 why = (f"not identifiable on this excitation: its parameters are within "
                        f"{zmax:.2g} standard errors of no effect")
-            cv_cur = cv1 = p_val = r_fwd_cv = None
+            cv_cur = cv1 = p_val = None
+            # the model carried forward; its cross-validated residual is the test's own when it is
+            # judged against the current model itself
+            fwd = _Reference(fitted, space.specs, r1)
             riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
             judged_with = ref.refused
             v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
@@ -698,13 +702,13 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 else:
                     # the report's held-out error is the model carried forward's, cross-validated
                     # alike: judged against a refused structure, it must still be below the current one's
-                    r_fwd_cv = r1_cv if judged_with is None else _cross_validated(
-                        fitted, space.specs, kin, tau, keep, split.blocks, split.phase, split.folds, cfg.max_steps)
-                    fwd, fwd_before = (_val_rmse(r_fwd_cv, split.cv_mask),
-                                       _val_rmse(cur_ref.cross_validated(kin, tau, split, cfg), split.cv_mask))
-                    if not fwd < fwd_before:
+                    if judged_with is None:
+                        fwd = _Reference(fitted, space.specs, r1, _cv=r1_cv)
+                    cv_fwd, cv_fwd_before = (_val_rmse(fwd.cross_validated(kin, tau, split, cfg), split.cv_mask),
+                                             _val_rmse(cur_ref.cross_validated(kin, tau, split, cfg), split.cv_mask))
+                    if not cv_fwd < cv_fwd_before:
                         why = (f"lowers the held-out error only with {judged_with}'s structure (cross-validated "
-                               f"{fwd_before:.4g} -> {fwd:.4g} without it)")
+                               f"{cv_fwd_before:.4g} -> {cv_fwd:.4g} without it)")
             if why is None:
                 # physics outside the eight that the candidate partly absorbs: a library term
                 # predicts the held-out blocks significantly better than the candidate (one-sided,
@@ -725,8 +729,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             n_train = int(w.sum())
             dbic = _bic(sse1, kap1, n_train, k1) - _bic(_sse(r_cur, w), kap1, n_train, k1 - len(
                 M.candidate_specs(fitted, len(fitted.candidates) - 1, scales)))
-            trials.append({"name": name, "model": fitted, "r": r1, "r_cv": r_fwd_cv, "specs": space.specs,
-                           "delta_bic": dbic,
+            trials.append({"name": name, "ref": fwd, "delta_bic": dbic,
                            "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
                            "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
                            "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
@@ -752,8 +755,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             break
         best = ok[0]
         accepted.append((best["name"], best))
-        current, r_cur = best["model"], best["r"]
-        cur_ref = _Reference(current, best["specs"], r_cur, _cv=best["r_cv"])
+        cur_ref = best["ref"]
         bar.update(1)
     bar.close()
     return cur_ref, accepted, log
@@ -858,7 +860,8 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     # a finding's parameters are those of the final joint model; its evidence stays that of its step
     ctx_final = _context(prep, split, floor, current, r_cur, cfg, loc_cur)
     missing = [Finding(name=name, explanation=type(c).explanation, params=c.describe(ctx_final),
-                       validation_rmse_nm=_val_rmse(t["r_cv"], split.cv_mask), delta_bic=t["delta_bic"],
+                       validation_rmse_nm=_val_rmse(t["ref"].cross_validated(kin, np.asarray(rec.torque), split, cfg),
+                                                    split.cv_mask), delta_bic=t["delta_bic"],
                        p_validation=t["p_validation"], p_family=t["p_family"])
                for (name, t), c in zip(accepted, current.candidates, strict=True)]
     if remaining or attribution.found:
