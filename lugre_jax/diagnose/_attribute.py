@@ -473,7 +473,7 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
     JB = C.jacobian(model, specs, kin, np.ones(n, bool))
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)])
-    phase = blocks % M.VALIDATION_EVERY
+    phase = M.block_phase(blocks)
     lines = kinematic_lines(model, kin, t, r, keep, motion, cond)
     out = []
     for g, X in groups:

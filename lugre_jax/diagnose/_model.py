@@ -527,11 +527,26 @@ def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25)
 
 
 VALIDATION_EVERY, VALIDATION_PHASE = 5, 2
+_PHASE_SEED = 0
+
+
+def block_phase(blocks: np.ndarray, every: int = VALIDATION_EVERY) -> np.ndarray:
+    """The phase (cross-validation fold) of every sample's time block: each run of ``every``
+    consecutive blocks gives each phase one block, in an order drawn at random (seeded) per run.
+    Interleaved as ``blocks % every`` is, so no regime is lost to a phase, but an excitation periodic
+    in a whole number of blocks (a point-to-point move every 5 s with 1-s blocks) does not put all of
+    its reversals, steps and the ringing after them in the same phase: each lands in a phase at
+    random, so every phase's held-out test sees its share of them."""
+    b = np.asarray(blocks, int)
+    runs = int(b.max()) // every + 1 if b.size else 0
+    order = np.argsort(np.random.default_rng(_PHASE_SEED).random((runs, every)), axis=1).ravel()
+    return order[b]
+
 
 def validation_mask(blocks: np.ndarray, every: int = VALIDATION_EVERY, phase: int = VALIDATION_PHASE) -> np.ndarray:
-    """True on held-out samples: every ``every``-th time block (interleaved, so no regime is lost),
-    at ``phase`` (:func:`phase_off_events` chooses it)."""
-    return (blocks % every) == phase
+    """True on held-out samples: the time blocks of ``phase`` (:func:`block_phase`; one in every
+    ``every``, interleaved, so no regime is lost; :func:`phase_off_events` chooses it)."""
+    return block_phase(blocks, every) == phase
 
 
 def event_starts(mask: np.ndarray) -> np.ndarray:
@@ -549,7 +564,7 @@ def phases_holding_events(blocks: np.ndarray, events, every: int = VALIDATION_EV
     ``event_alpha``)."""
     from scipy.stats import binom
 
-    phase = np.asarray(blocks) % every
+    phase = block_phase(blocks, every)
     worst, held = np.zeros(every), np.zeros(every, bool)
     for ev in events:
         ev = np.asarray(ev, bool)
@@ -567,9 +582,9 @@ def phase_off_events(worst: np.ndarray, held: np.ndarray, default: int = VALIDAT
     held)``: ``default``, unless it holds too many of some kind of event the fit must see (e.g. the
     reversals); then the phase whose largest share is least, the nearest to ``default`` on ties.
 
-    An excitation whose period is a multiple of the phases' count in blocks puts its events in one
-    phase: a 0.1-Hz position sine started at rest reverses 2.5 s into every 5 s, so with 1-s blocks
-    every reversal falls in the third block of five, and a fit on the other four never sees one."""
+    The phases are drawn at random per run of blocks (:func:`block_phase`), so a phase holds most
+    events only by chance or when there are few of them (the binomial tail then decides): without
+    the rule, a fit on the other phases would not see them."""
     if not held[default]:
         return default
     return min(range(len(worst)), key=lambda j: (worst[j], abs(j - default), j))

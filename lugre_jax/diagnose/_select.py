@@ -82,12 +82,11 @@ def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_phase, folds, m
     samples of the block phases ``folds``, each predicted by a fit that did not see it: the model
     is refitted (warm-started, by LM) without each other phase in turn, and each phase's samples
     take the residual of the fit that left them out; 0 elsewhere. Several phases, not
-    one, because an excitation whose period is a multiple of five blocks shows one phase only the
-    same part of every period (a staircase's dwell middles, never its transitions); not a phase
-    that holds most of some kind of event, whose refit would not see it (a 10-s staircase's steps
-    all start a block of phase 0: without them the inertia is free)."""
+    one, because one phase is a fifth of the recording, and where the events are few it may hold
+    few of them (a staircase's dwell middles, not its transitions); not a phase that holds most of
+    some kind of event, whose refit would not see it (without the steps the inertia is free)."""
     out = np.zeros(keep.shape)
-    phase = blocks % M.VALIDATION_EVERY
+    phase = M.block_phase(blocks)
     for j in folds:
         fold = keep & (phase == j)
         fitted = model
@@ -411,7 +410,7 @@ def _split(rec, cond, unresolved, cfg) -> Split:
     phase = M.phase_off_events(worst, held)
     val = M.validation_mask(blocks, phase=phase) & keep
     folds = tuple(j for j, h in enumerate(held) if not h or j == phase)
-    cv_mask = keep & np.isin(blocks % M.VALIDATION_EVERY, folds)
+    cv_mask = keep & np.isin(M.block_phase(blocks), folds)
     w = ((~val) & keep).astype(float)
     if int(w.sum()) < cfg.min_resolved or int(val.sum()) < cfg.min_resolved // 4:
         raise ValueError(
@@ -835,7 +834,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     blocks = split.blocks
     recording = RecordingInfo(
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
-        validation="every 5th time block of ~%.3g %s held out, phase %d (%d of %d samples); a candidate's "
+        validation="one time block of ~%.3g %s in five held out (phases drawn per run of five blocks), phase %d (%d of %d samples); a candidate's "
                    "held-out test crosses phases %s%s"
                    % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
                       rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds)),
