@@ -2732,6 +2732,88 @@ def fresh35_settings():
     return [r for k, r in enumerate(_refreshed("fresh35", _F35_FS, _F35_VARIED, 20300)) if k % 2 == 1]
 
 
+# calib38, outside13 and fresh36: the block phases drawn at random within each run of five blocks
+# (an excitation periodic in whole blocks no longer puts its events in one phase; issue #30); three
+# plants no earlier set used
+SKINNY = T.Plant(J=0.085, Fc=0.58, Fs=0.9, vs=0.039, sigma2=0.98, sigma0=175.0, sigma1=1.0)
+PUDGY = T.Plant(J=0.27, Fc=1.2, Fs=1.62, vs=0.058, sigma2=1.5, sigma0=262.0, sigma1=1.95)
+BOXY = T.Plant(J=0.16, Fc=0.86, Fs=1.24, vs=0.05, sigma2=1.25, sigma0=222.0, sigma1=1.45)
+_add_plants({"skinny": (SKINNY, T.VelocityPIController(kp=4.0, ki=24.0)),
+             "pudgy": (PUDGY, T.VelocityPIController(kp=14.0, ki=84.0)),
+             "boxy": (BOXY, T.VelocityPIController(kp=8.0, ki=48.0))},
+            {"skinny": T.PositionPIDController.tuned(0.085, 3.4, tf=0.002),
+             "pudgy": T.PositionPIDController.tuned(0.27, 2.8, tf=0.004),
+             "boxy": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003)})
+
+CALIB38_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.052, 0.19, 0.64, 1.85, 3.9), "dwell": 3.0 if i % 2 else 2.5,
+                            "transition": 0.25, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.0 + 0.45 * (i % 3), "f0": 0.05, "f1": 1.45, "duration": 36.0,
+                             "bias": 0.55 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.55 * (i % 2), "f0": 0.05, "f1": 1.2 + 0.3 * (i % 3),
+                            "n": 12 + (i % 2), "duration": 36.0},
+    "position_sine": lambda i: {"amplitude": 2.5 + 2.2 * (i % 3), "frequency": 0.2 if i % 2 else 0.1,
+                                "duration": 35.0},
+    "point_to_point": lambda i: {"amplitudes": (2.4, -2.3, 2.5, -2.2, 1.8) if i % 2 else (-2.2, 2.5, -2.3, 2.2, -1.7, 1.9),
+                                 "move_time": 1.0 if i % 2 else 1.5, "dwell": 1.5 if i % 2 else 2.5, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.055, 0.2, 0.72, 1.7, 3.5), "dwell": 2.0 if i % 2 else 2.5,
+                              "transition": 0.0, "repeats": 2},
+}
+
+
+def calib38_settings(n: int = 24):
+    """A thirty-eighth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds x both loops (the position PID without feedforward in every fourth row), with
+    periods of whole seconds in half the point-to-point, position-sine and step rows, the velocity
+    sensor alone in rows 0-11 and both sensors in rows 12-23, on three plants no earlier set used
+    (SKINNY, PUDGY, BOXY), 260-720 Hz, torque noise 0.05-0.07 N*m, white in half the rows and AR(1)
+    of coefficient 0.6 or 0.8 in the other half, velocity noise 0.0033-0.0043 deg/s, quantisation
+    0.0008-0.0012 deg; seeds 20400 + i."""
+    return _effect_free_set("calib38", CALIB38_EXCITATIONS, ["skinny", "pudgy", "boxy"],
+                            [(False, True), (True, True), (True, False)], [260.0, 540.0, 330.0, 720.0, 430.0],
+                            [0.055, 0.07, 0.05], [0.0, 0.6, 0.0, 0.8], [0.0033, 0.0043], [0.0008, 0.0012],
+                            20400, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(2, 3))
+
+
+_OUT13_RECIPES = {
+    "a": ("skinny", "pi", "multisine", {"amplitude": 2.25, "f0": 0.052, "f1": 1.52, "n": 12, "duration": 42.0},
+          450.0, 0.06, 0.0, 0.0033, 0.0009, True, True),
+    "b": ("pudgy", "pid", "point_to_point", {"amplitudes": (3.1, -3.0, 3.2, -2.8, -2.5, 2.7), "move_time": 1.5,
+                                           "dwell": 2.5, "repeats": 2}, 430.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "c": ("boxy", "pi", "staircase", {"speeds": (0.044, 0.16, 0.68, 2.2, 5.0, 7.7), "dwell": 3.0,
+                                     "transition": 0.4, "repeats": 1}, 375.0, 0.05, 0.0, 0.003, 0.001, True, True),
+    "d": ("pudgy", "pid", "sine_sweep", {"amplitude": 2.75, "f0": 0.05, "f1": 1.4, "duration": 46.0, "bias": 0.6},
+          420.0, 0.06, 0.45, 0.0, 0.0009, True, False),
+    "e": ("skinny", "pi", "multisine", {"amplitude": 2.3, "f0": 0.051, "f1": 1.46, "n": 12, "duration": 44.0},
+          470.0, 0.085, 0.0, 0.004, 0.0, False, True),
+    "f": ("pudgy", "pid", "point_to_point", {"amplitudes": (-3.0, 3.1, -2.8, 2.7, 3.2, -3.1), "move_time": 1.0,
+                                           "dwell": 2.0, "repeats": 2}, 365.0, 0.06, 0.0, 0.0, 0.0009, True, False),
+    "g": ("boxy", "pid_nff", "point_to_point", {"amplitudes": (3.25, -3.3, 2.9, -3.2, 2.2, 1.9), "move_time": 1.5,
+                                              "dwell": 2.5, "repeats": 2}, 330.0, 0.085, 0.0, 0.004, 0.0009, True, True),
+    "h": ("skinny", "pi", "staircase", {"speeds": (0.05, 0.16, 0.6, 2.0, 4.3), "dwell": 4.0, "transition": 0.4,
+                                       "repeats": 1}, 305.0, 0.05, 0.45, 0.003, 0.0009, True, True),
+}
+
+
+def outside13_settings():
+    """A thirteenth outside set (issue #31), fixed and committed before its first run: outside10's rows
+    (the four effects outside the candidates, two recordings each, the lag a 1.4 ms) on SKINNY, PUDGY
+    and BOXY, at excitation parameters, rates and seeds (20500 + k) no earlier set used."""
+    return _outside_set("outside13_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT13_RECIPES, 20500)
+
+
+_F36_FS = {"a": 350.0, "b": 300.0, "c": 455.0, "d": 325.0, "e": 480.0, "f": 340.0, "g": 395.0, "h": 360.0,
+           "i": 310.0}
+_F36_VARIED = _varied(0.7, 0.95, -1.1)
+
+
+def fresh36_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 300-480 Hz (by recipe), seeds 20600 + k, with the gravity's phase, the asymmetry's sign
+    and the ripple's period and phase changed."""
+    return _refreshed("fresh36", _F36_FS, _F36_VARIED, 20600)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2767,6 +2849,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib35": calib35_settings, "calib35v": calib35v_settings, "outside10": outside10_settings, "fresh33": fresh33_settings,
             "calib36": calib36_settings, "fresh34": fresh34_settings, "outside11": outside11_settings,
             "calib37": calib37_settings, "outside12": outside12_settings, "fresh35": fresh35_settings,
+            "calib38": calib38_settings, "outside13": outside13_settings, "fresh36": fresh36_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -2948,7 +3031,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib26", "fresh26", "calib27", "fresh27", "calib28", "fresh28", "calib29", "fresh29",
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
-               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35")
+               "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
+               "calib38", "outside13", "fresh36")
 
 
 def main():
