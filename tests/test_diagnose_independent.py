@@ -254,9 +254,9 @@ def test_validation_phase_moves_only_off_concentrated_events():
 @pytest.mark.slow
 def test_held_out_test_crosses_all_block_phases():
     """A 5-s-dwell staircase with sharp steps (heavy joint, position only, Stribeck exponent 1.2
-    instead of 2; the held-out study's recording): every fifth 1-s block sits at the same point of
-    every dwell, so the fixed validation phase sees only settled speeds and its held-out test misses
-    the change (p > 0.05 against a BIC drop of hundreds). Crossed over all five phases, the test
+    instead of 2; the held-out study's recording): one phase's blocks hold few of the transitions
+    (with phases ``block % 5``, only settled speeds, and a held-out test on that phase alone misses
+    the change: p > 0.05 against a BIC drop of hundreds). Crossed over all five phases, the test
     sees the transitions and the change is named, its exponent within 20 %."""
     plant = T.Plant(J=0.4, Fc=2.0, Fs=3.0, vs=0.15, sigma2=0.8, sigma0=40.0, sigma1=3.0)
     g = T.generate(T.Staircase(dwell=5.0, transition=0.0, seed=3104), [T.StribeckShapeEffect(1.2)], plant,

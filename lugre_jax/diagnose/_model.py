@@ -747,14 +747,21 @@ def initial_baselines(rec, friction: str = "lugre", fit_offset: bool = False, no
     x_pre = presliding_displacement(rec, Fs)
     s0_data = max(Fs, Fc) / x_pre
 
-    def start(Fs_, vs_, s0, zeta):
-        return JointModel(jnp.asarray(J), LuGre(Fc=Fc, Fs=max(Fs_, Fc * 1.0001), vs=vs_, sigma2=s2, sigma0=s0,
+    def start(Fc_, Fs_, vs_, s0, zeta):
+        return JointModel(jnp.asarray(J), LuGre(Fc=Fc_, Fs=max(Fs_, Fc_ * 1.0001), vs=vs_, sigma2=s2, sigma0=s0,
                                                 sigma1=2 * zeta * np.sqrt(s0 * J), require_passive=False),
                           jnp.asarray(off))
 
-    humps = [(Fs, vs)] + [(k * Fc, q * sc["V"]) for k in cfg.far_fs_over_fc for q in cfg.far_vs_over_v]
-    return ([start(Fs, vs, s0_data / k0, zeta) for k0 in (1.0, 1 / 3, 3.0) for zeta in (0.5, 0.1)],
-            [start(Fs_, vs_, max(Fs_, Fc) / (x * sc["P"]), 0.5) for Fs_, vs_ in humps for x in cfg.far_presliding_over_p])
+    # the grid's humps over the static curve's Coulomb level and over the least-squares start's: with
+    # fewer resolved speeds than the curve has parameters the static fit can put the Coulomb level
+    # near 0 (the hump's tail taking its place), and a grid around it alone holds no start with the
+    # joint's friction level
+    levels = [Fc] + ([float(f0.Fc)] if st is not None and not 0.5 < float(f0.Fc) / max(Fc, 1e-300) < 2.0 else [])
+    humps = [(Fc, Fs, vs)] + [(c, k * c, q * sc["V"]) for c in levels for k in cfg.far_fs_over_fc
+                              for q in cfg.far_vs_over_v]
+    return ([start(Fc, Fs, vs, s0_data / k0, zeta) for k0 in (1.0, 1 / 3, 3.0) for zeta in (0.5, 0.1)],
+            [start(Fc_, Fs_, vs_, max(Fs_, Fc_) / (x * sc["P"]), 0.5) for Fc_, Fs_, vs_ in humps
+             for x in cfg.far_presliding_over_p])
 
 
 def presliding_length(friction) -> float:

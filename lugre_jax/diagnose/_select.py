@@ -139,7 +139,7 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     is screened on each. Starts from :func:`~._model.initial_baselines` (data-driven) plus the
     least-squares start, and on each kinematics the ``far_starts`` of the grid of further starts
     (``initial_baselines``' second list: sigma0 and the Stribeck hump decades away) whose training
-    SSE is lowest before any step (a prediction each, no fit);
+    SSE is lowest before any step (a prediction each, no fit), from each Coulomb level's grid;
     each (start, kinematics) pair is run ``screen_steps`` LM steps, the best two by training SSE are
     run to convergence. ``cfg``: the settings of the starts (default :class:`DiagnoseConfig`).
     """
@@ -163,7 +163,12 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     screened = []
     many = len(starts) * len(kins) > 1
     for k, kin in enumerate(kins):
-        nearest = sorted(range(len(far)), key=lambda i: sse(far[i], kin))[:far_starts]
+        # the nearest of each Coulomb level's grid: a static curve that fits the resolved speeds with its
+        # Coulomb level near 0 is nearer before any step than the joint's own level
+        nearest = []
+        for level in dict.fromkeys(float(m.friction.Fc) for m in far):
+            grid = [i for i in range(len(far)) if float(far[i].friction.Fc) == level]
+            nearest += sorted(grid, key=lambda i: sse(far[i], kin))[:far_starts]
         for s0 in starts + [far[i] for i in nearest]:
             s0 = M.clip_into(space, s0)
             fitted, _ = M.fit(s0, space, kin, tau, weights, max_steps=screen_steps) if many else (s0, {})
