@@ -200,8 +200,8 @@ def test_held_out_phase_keeps_periodic_reversals_in_the_fit():
 
 
 def test_block_phases_are_interleaved_and_not_periodic():
-    """block_phase: every run of five consecutive blocks gives each phase one block (no regime is
-    lost to a phase), and events periodic in five blocks (a move every 5 s, 1-s blocks) spread over
+    """block_phase: every run of five consecutive blocks gives each phase one block and no two
+    neighbouring blocks share a phase (no regime is lost to a phase), and events periodic in five blocks (a move every 5 s, 1-s blocks) spread over
     the phases: 20 such events are not all in one phase, and none holds more than half of them
     (blocks % 5 would put all 20 in one)."""
     from lugre_jax.diagnose._model import block_ids, block_phase
@@ -215,6 +215,9 @@ def test_block_phases_are_interleaved_and_not_periodic():
     events = per_block[2::5]
     assert np.bincount(events, minlength=5).max() <= 10, np.bincount(events, minlength=5)
     assert np.array_equal(block_phase(blocks), ph)  # seeded: the same split every time
+    many = block_phase(np.arange(5000))
+    assert not np.any(many[1:] == many[:-1])  # no two neighbouring blocks in one phase
+    assert np.array_equal(np.bincount(many), [1000] * 5)
 
 
 def test_validation_phase_moves_only_off_concentrated_events():
