@@ -521,9 +521,13 @@ def block_ids(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25)
     """Index of the ~``block_s``-long time block of every sample (default ~1 s, at least 25 blocks)."""
     t = np.asarray(t)
     D = t[-1] - t[0]
-    if block_s is None:
-        block_s = min(1.0, D / min_blocks)
+    block_s = block_length(t, block_s, min_blocks)
     return np.minimum(((t - t[0]) / block_s).astype(int), int(D / block_s))
+
+
+def block_length(t: np.ndarray, block_s: float | None = None, min_blocks: int = 25) -> float:
+    """The length of :func:`block_ids`' blocks: ``block_s``, or ~1 s with at least ``min_blocks``."""
+    return float(block_s) if block_s is not None else min(1.0, float(t[-1] - t[0]) / min_blocks)
 
 
 VALIDATION_EVERY, VALIDATION_PHASE = 5, 2

@@ -841,8 +841,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
         source=rec.source, n_samples=rec.n, units=rec.units, duration=scales["D"], sample_rate_hz=scales["fs"],
         validation="one time block of ~%.3g %s in five held out (phases drawn per run of five blocks), phase %d (%d of %d samples); a candidate's "
                    "held-out test crosses phases %s%s"
-                   % (float(np.diff(rec.time[blocks == 1][[0, -1]])[0]) if np.any(blocks == 1) else 0,
-                      rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds)),
+                   % (M.block_length(np.asarray(rec.time), cfg.block_s), rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds)),
                       "; %d held-out samples left out: the training blocks do not determine their model torque"
                       % split.unpredicted if split.unpredicted else ""))
     baseline = Baseline(
