@@ -2814,6 +2814,47 @@ def fresh36_settings():
     return _refreshed("fresh36", _F36_FS, _F36_VARIED, 20600)
 
 
+# calib39: a second effect-free set for the drawn block phases (issue #30); three plants no earlier set used
+WOBBLY = T.Plant(J=0.1, Fc=0.66, Fs=0.98, vs=0.043, sigma2=1.08, sigma0=192.0, sigma1=1.15)
+STUBBY = T.Plant(J=0.3, Fc=1.28, Fs=1.75, vs=0.061, sigma2=1.55, sigma0=270.0, sigma1=2.05)
+KNOTTY = T.Plant(J=0.18, Fc=0.92, Fs=1.32, vs=0.052, sigma2=1.3, sigma0=230.0, sigma1=1.55)
+_add_plants({"wobbly": (WOBBLY, T.VelocityPIController(kp=4.6, ki=28.0)),
+             "stubby": (STUBBY, T.VelocityPIController(kp=16.0, ki=95.0)),
+             "knotty": (KNOTTY, T.VelocityPIController(kp=9.0, ki=54.0))},
+            {"wobbly": T.PositionPIDController.tuned(0.1, 3.3, tf=0.002),
+             "stubby": T.PositionPIDController.tuned(0.3, 2.75, tf=0.004),
+             "knotty": T.PositionPIDController.tuned(0.18, 2.95, tf=0.003)})
+
+CALIB39_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.05, 0.18, 0.66, 1.8, 3.7), "dwell": 2.0 if i % 2 else 3.5,
+                            "transition": 0.27, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.2 + 0.35 * (i % 3), "f0": 0.052, "f1": 1.4, "duration": 37.0,
+                             "bias": 0.5 + 0.35 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.6 * (i % 2), "f0": 0.05, "f1": 1.15 + 0.35 * (i % 3),
+                            "n": 11 + (i % 2), "duration": 37.0},
+    "position_sine": lambda i: {"amplitude": 2.8 + 2.1 * (i % 3), "frequency": 0.25 if i % 2 else 0.125,
+                                "duration": 34.0},
+    "point_to_point": lambda i: {"amplitudes": (2.3, -2.5, 2.4, -2.1, 1.9) if i % 2 else (-2.4, 2.3, -2.5, 2.0, -1.8, 2.1),
+                                 "move_time": 1.0 if i % 2 else 2.0, "dwell": 2.0 if i % 2 else 3.0, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.052, 0.19, 0.7, 1.75, 3.6), "dwell": 3.0 if i % 2 else 2.0,
+                              "transition": 0.0, "repeats": 2},
+}
+
+
+def calib39_settings(n: int = 24):
+    """A thirty-ninth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds x both loops (the position PID without feedforward in every fourth row), with
+    periods of whole seconds in the point-to-point, position-sine and step rows, the position sensor
+    alone in rows 0-11 and both sensors in rows 12-23, on three plants no earlier set used (WOBBLY,
+    STUBBY, KNOTTY), 250-700 Hz, torque noise 0.05-0.075 N*m, white in half the rows and AR(1) of
+    coefficient 0.5 or 0.75 in the other half, velocity noise 0.0035-0.0045 deg/s, quantisation
+    0.0007-0.0011 deg; seeds 20700 + i."""
+    return _effect_free_set("calib39", CALIB39_EXCITATIONS, ["wobbly", "stubby", "knotty"],
+                            [(True, False), (True, True), (False, True)], [250.0, 520.0, 360.0, 700.0, 440.0],
+                            [0.06, 0.075, 0.05], [0.0, 0.5, 0.0, 0.75], [0.0035, 0.0045], [0.0007, 0.0011],
+                            20700, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=3, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2850,6 +2891,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib36": calib36_settings, "fresh34": fresh34_settings, "outside11": outside11_settings,
             "calib37": calib37_settings, "outside12": outside12_settings, "fresh35": fresh35_settings,
             "calib38": calib38_settings, "outside13": outside13_settings, "fresh36": fresh36_settings,
+            "calib39": calib39_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3032,7 +3074,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
-               "calib38", "outside13", "fresh36")
+               "calib38", "outside13", "fresh36", "calib39")
 
 
 def main():
