@@ -162,13 +162,13 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
 
     screened = []
     many = len(starts) * len(kins) > 1
+    # the further starts by Coulomb level, the nearest of each level's grid taken: a static curve that
+    # fits the resolved speeds with its Coulomb level near 0 is nearer before any step than the joint's
+    # own level
+    levels = [float(m.friction.Fc) for m in far]
+    grids = [[i for i, c in enumerate(levels) if c == level] for level in dict.fromkeys(levels)]
     for k, kin in enumerate(kins):
-        # the nearest of each Coulomb level's grid: a static curve that fits the resolved speeds with its
-        # Coulomb level near 0 is nearer before any step than the joint's own level
-        nearest = []
-        for level in dict.fromkeys(float(m.friction.Fc) for m in far):
-            grid = [i for i in range(len(far)) if float(far[i].friction.Fc) == level]
-            nearest += sorted(grid, key=lambda i: sse(far[i], kin))[:far_starts]
+        nearest = [i for grid in grids for i in sorted(grid, key=lambda i: sse(far[i], kin))[:far_starts]]
         for s0 in starts + [far[i] for i in nearest]:
             s0 = M.clip_into(space, s0)
             fitted, _ = M.fit(s0, space, kin, tau, weights, max_steps=screen_steps) if many else (s0, {})
