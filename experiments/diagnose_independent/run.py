@@ -2855,6 +2855,90 @@ def calib39_settings(n: int = 24):
                             20700, n, loops=("pi", "pid"), nff=2, plant_k=2, fs_k=3, tn_rule=(1, 4))
 
 
+# fresh37, outside14 and calib40: the design as of da52481, frozen before their first run; fresh37's
+# variations and rates are drawn (numpy default_rng(37) and (3714)), not chosen; three plants no
+# earlier set used
+_F37_FS = {"a": 450.0, "b": 280.0, "c": 370.0, "d": 410.0, "e": 315.0, "f": 380.0, "g": 425.0, "h": 370.0,
+           "i": 335.0}
+_F37_VARIED = _varied(1.2827, 1.0978, -2.7081)
+
+
+def fresh37_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 280-450 Hz (by recipe, drawn), seeds 20800 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh37", _F37_FS, _F37_VARIED, 20800)
+
+
+GRITTY = T.Plant(J=0.11, Fc=0.7, Fs=1.05, vs=0.046, sigma2=1.1, sigma0=198.0, sigma1=1.2)
+SPRIGHTLY = T.Plant(J=0.075, Fc=0.52, Fs=0.8, vs=0.036, sigma2=0.9, sigma0=160.0, sigma1=0.9)
+STOLID = T.Plant(J=0.24, Fc=1.1, Fs=1.55, vs=0.056, sigma2=1.45, sigma0=250.0, sigma1=1.85)
+_add_plants({"gritty": (GRITTY, T.VelocityPIController(kp=5.2, ki=31.0)),
+             "sprightly": (SPRIGHTLY, T.VelocityPIController(kp=3.6, ki=22.0)),
+             "stolid": (STOLID, T.VelocityPIController(kp=12.5, ki=75.0))},
+            {"gritty": T.PositionPIDController.tuned(0.11, 3.2, tf=0.002),
+             "sprightly": T.PositionPIDController.tuned(0.075, 3.5, tf=0.002),
+             "stolid": T.PositionPIDController.tuned(0.24, 2.85, tf=0.004)})
+
+_OUT14_RECIPES = {
+    "a": ("gritty", "pi", "multisine", {"amplitude": 2.35, "f0": 0.05, "f1": 1.48, "n": 11, "duration": 43.0},
+          410.0, 0.06, 0.0, 0.0035, 0.0008, True, True),
+    "b": ("stolid", "pid", "point_to_point", {"amplitudes": (2.9, -3.2, 3.0, -2.6, -2.7, 2.9), "move_time": 1.4,
+                                            "dwell": 2.3, "repeats": 2}, 455.0, 0.08, 0.0, 0.0042, 0.001, True, True),
+    "c": ("sprightly", "pi", "staircase", {"speeds": (0.046, 0.17, 0.7, 2.1, 4.8, 7.4), "dwell": 3.2,
+                                          "transition": 0.35, "repeats": 1}, 345.0, 0.05, 0.0, 0.0032, 0.0011, True,
+          True),
+    "d": ("stolid", "pid", "sine_sweep", {"amplitude": 2.6, "f0": 0.052, "f1": 1.35, "duration": 47.0, "bias": 0.65},
+          395.0, 0.065, 0.4, 0.0, 0.001, True, False),
+    "e": ("gritty", "pi", "multisine", {"amplitude": 2.4, "f0": 0.049, "f1": 1.5, "n": 13, "duration": 45.0},
+          440.0, 0.08, 0.0, 0.0038, 0.0, False, True),
+    "f": ("stolid", "pid", "point_to_point", {"amplitudes": (-2.9, 3.0, -3.1, 2.8, 3.1, -2.9), "move_time": 1.1,
+                                            "dwell": 2.1, "repeats": 2}, 385.0, 0.06, 0.0, 0.0, 0.001, True, False),
+    "g": ("sprightly", "pid_nff", "point_to_point", {"amplitudes": (3.1, -3.2, 3.0, -3.3, 2.1, 2.0),
+                                                   "move_time": 1.6, "dwell": 2.4, "repeats": 2},
+          350.0, 0.08, 0.0, 0.0038, 0.0008, True, True),
+    "h": ("gritty", "pi", "staircase", {"speeds": (0.048, 0.15, 0.62, 2.1, 4.1), "dwell": 3.8, "transition": 0.35,
+                                       "repeats": 1}, 320.0, 0.055, 0.4, 0.0032, 0.0008, True, True),
+}
+
+
+def outside14_settings():
+    """A fourteenth outside set (issue #31), fixed and committed before its first run: outside13's rows
+    (the four effects outside the candidates, two recordings each) on GRITTY, SPRIGHTLY and STOLID,
+    at excitation parameters, rates and seeds (20900 + k) no earlier set used."""
+    return _outside_set("outside14_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT14_RECIPES, 20900)
+
+
+CALIB40_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.048, 0.17, 0.62, 1.9, 3.8), "dwell": 2.8 if i % 2 else 2.2,
+                            "transition": 0.3, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 2.1 + 0.4 * (i % 3), "f0": 0.048, "f1": 1.5, "duration": 38.0,
+                             "bias": 0.6 + 0.25 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.2 + 0.5 * (i % 2), "f0": 0.05, "f1": 1.25 + 0.25 * (i % 3),
+                            "n": 12 + (i % 2), "duration": 38.0},
+    "position_sine": lambda i: {"amplitude": 2.6 + 2.4 * (i % 3), "frequency": 0.15 if i % 2 else 0.22,
+                                "duration": 36.0},
+    "point_to_point": lambda i: {"amplitudes": (2.2, -2.4, 2.6, -2.0, 1.7) if i % 2 else (-2.3, 2.4, -2.1, 2.5, -1.9, 2.0),
+                                 "move_time": 1.2 if i % 2 else 1.8, "dwell": 1.8 if i % 2 else 2.7, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.05, 0.21, 0.68, 1.8, 3.4), "dwell": 2.4 if i % 2 else 1.9,
+                              "transition": 0.0, "repeats": 2},
+}
+
+
+def calib40_settings(n: int = 24):
+    """A fortieth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds x both loops (the position PID without feedforward in every fourth row), both
+    sensors in rows 0-11, the position sensor alone in rows 12-23 (and the velocity sensor alone in
+    none: calib38 covers it), on three plants no earlier set used (GRITTY, SPRIGHTLY, STOLID),
+    280-760 Hz, torque noise 0.055-0.08 N*m, white in half the rows and AR(1) of coefficient 0.7 or
+    0.55 in the other half, velocity noise 0.003-0.005 deg/s, quantisation 0.0006-0.001 deg; seeds
+    21000 + i."""
+    return _effect_free_set("calib40", CALIB40_EXCITATIONS, ["gritty", "sprightly", "stolid"],
+                            [(True, True), (True, False), (False, True)], [280.0, 610.0, 390.0, 760.0, 470.0],
+                            [0.055, 0.065, 0.08], [0.0, 0.7, 0.0, 0.55], [0.003, 0.005], [0.0006, 0.001],
+                            21000, n, loops=("pid", "pi"), nff=1, plant_k=2, fs_k=3, tn_rule=(1, 3))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2891,7 +2975,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib36": calib36_settings, "fresh34": fresh34_settings, "outside11": outside11_settings,
             "calib37": calib37_settings, "outside12": outside12_settings, "fresh35": fresh35_settings,
             "calib38": calib38_settings, "outside13": outside13_settings, "fresh36": fresh36_settings,
-            "calib39": calib39_settings,
+            "calib39": calib39_settings, "fresh37": fresh37_settings, "outside14": outside14_settings,
+            "calib40": calib40_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3074,7 +3159,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
-               "calib38", "outside13", "fresh36", "calib39")
+               "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40")
 
 
 def main():
