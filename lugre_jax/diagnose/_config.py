@@ -116,6 +116,10 @@ class DiagnoseConfig:
     - ``gravity_min_variation`` (0.05): a fitted gravity must vary over the recording's positions by
       at least this share of its mean torque (a constant offset fitted as a gravity varies far less,
       a load far more); below it the angle dependence is not shown.
+    - ``noise_free_share`` (1e-6): a torque noise below this share of the torque's scale is no
+      measurement's (a 20-bit converter's step is 1e-6 of its range): the recording is taken as
+      noise-free (a simulation's output), and the report says that its tests, calibrated against
+      measurement noise, then find the derivatives' numerical error significant.
     - ``rechoose_share`` (0.05): the conditioning window is chosen again for the fitted inertia
       when that lowers the kinematic torque error by more than this share of the torque noise
       variance (the floor would change by ~2.5 %).
@@ -139,6 +143,7 @@ class DiagnoseConfig:
     max_event_share: float = 0.6
     event_alpha: float = 1e-3
     rechoose_share: float = 0.05
+    noise_free_share: float = 1e-6
     outlier_std: float = 4.0
     colour_chi2: float = 16.0
     big_acceleration: float = 0.2
@@ -163,7 +168,7 @@ class DiagnoseConfig:
         for name, lo, hi in (("resolved_share", 0.0, math.inf), ("max_event_share", 0.0, 1.0),
                              ("event_alpha", 0.0, 1.0), ("outlier_std", 0.0, math.inf),
                              ("colour_chi2", 0.0, math.inf), ("big_acceleration", 0.0, math.inf),
-                             ("gravity_min_variation", 0.0, math.inf)):
+                             ("gravity_min_variation", 0.0, math.inf), ("noise_free_share", 0.0, 1.0)):
             x = getattr(self, name)
             if not lo < x < hi:
                 raise ValueError(f"DiagnoseConfig.{name}: expected a number in ({lo:g}, {hi:g}), got {x}")

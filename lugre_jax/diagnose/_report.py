@@ -16,7 +16,8 @@ from typing import Any
 class RecordingInfo:
     """The diagnosed recording: ``source`` (file or description), ``n_samples``, ``units`` (quantity
     -> unit), ``duration`` and ``sample_rate_hz`` (in the recording's time unit), ``validation`` (which
-    samples were held out, in words)."""
+    samples were held out, in words), ``held_out_phase`` (the fixed held-out block phase, 0-4) and
+    ``cross_validated_phases`` (the phases the held-out tests cross)."""
 
     source: str
     n_samples: int
@@ -24,10 +25,13 @@ class RecordingInfo:
     duration: float
     sample_rate_hz: float
     validation: str
+    held_out_phase: int | None = None
+    cross_validated_phases: list = dataclasses.field(default_factory=list)
 
     def to_json(self) -> dict:
         return {"source": self.source, "n_samples": self.n_samples, "units": self.units,
-                "duration": self.duration, "sample_rate_hz": self.sample_rate_hz, "validation": self.validation}
+                "duration": self.duration, "sample_rate_hz": self.sample_rate_hz, "validation": self.validation,
+                "held_out_phase": self.held_out_phase, "cross_validated_phases": list(self.cross_validated_phases)}
 
 
 @dataclasses.dataclass(frozen=True)

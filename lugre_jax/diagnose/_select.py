@@ -843,7 +843,8 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                    "held-out test crosses phases %s%s"
                    % (M.block_length(np.asarray(rec.time), cfg.block_s), rec.units["time"], split.phase, int(val.sum()), rec.n, ", ".join(map(str, split.folds)),
                       "; %d held-out samples left out: the training blocks do not determine their model torque"
-                      % split.unpredicted if split.unpredicted else ""))
+                      % split.unpredicted if split.unpredicted else ""),
+        held_out_phase=int(split.phase), cross_validated_phases=[int(f) for f in split.folds])
     baseline = Baseline(
         params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
         validation_rmse_nm=cv[0], fixed_phase_rmse_nm=_val_rmse(r0, val),
@@ -855,7 +856,12 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
             "structure may be the baseline's own misfit, not missing physics"
             + ("; the torque noise's profile still rises at its longest lag (colour longer than it "
                "reaches, or the signal), so the floor may be only a lower bound"
-               if cond.torque_noise_open else "")),
+               if cond.torque_noise_open else "")
+            + (f"; the torque carries no measurable noise ({floor.torque_nm:.2g} {rec.units['torque']}, "
+               f"{floor.torque_nm / scales['T']:.1g} of its scale): the tests are calibrated against measurement "
+               "noise, so the derivatives' numerical error and the samples' transients are significant here; "
+               "a simulated recording needs measurement noise added to be diagnosed"
+               if floor.torque_nm < cfg.noise_free_share * scales["T"] else "")),
         conditioning=cond.to_json(), unresolved_transient_fraction=float(prep.unresolved.mean()),
         at_rest_fraction=float(prep.at_rest.mean()))
     located = tuple(Region.from_test(x) for x in loc0["located"])
