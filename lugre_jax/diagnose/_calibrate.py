@@ -42,7 +42,8 @@ class NullModel:
     """What the residual of a complete model is made of, on this recording.
 
     ``torque_sd`` and ``torque_phi``: the torque channel's noise (AR(1) standard deviation and
-    coefficient); ``kinematic_draws``: pairs ``(synthetic, reference)`` of conditioned kinematics
+    coefficient; ``torque_arma``, where set, the broader colour of :func:`._condition.torque_noise_std`,
+    which then replaces the AR(1)); ``kinematic_draws``: pairs ``(synthetic, reference)`` of conditioned kinematics
     from :func:`._condition.perturbed_kinematics` (model-free; the current model turns each pair
     into a torque error), scaled by ``kinematic_scale`` (at most 1: see ``diagnose``'s floor);
     ``blocks``: the recording's time-block ids, over which :func:`null_draws` mixes the kinematic
@@ -53,8 +54,21 @@ class NullModel:
     kinematic_draws: tuple
     blocks: np.ndarray = dataclasses.field(repr=False, compare=False)
     kinematic_scale: float = 1.0
+    torque_arma: tuple = ()
 
     def torque_noise(self, rng: np.random.Generator, shape: tuple[int, int]) -> np.ndarray:
+        if self.torque_arma:
+            # the broader colour (_condition.torque_noise_std): a white share plus the unit-variance
+            # ARMA part, started a settling time early so that it is stationary
+            from ._condition import _MA_POLY, arma_unit_std
+
+            share, a1, a2, ma = self.torque_arma
+            rad = float(np.max(np.abs(np.roots([1.0, -a1, -a2]))))
+            burn = int(min(50_000, 10.0 / max(1.0 - rad, 1e-4)))
+            w = rng.standard_normal((shape[0], shape[1] + burn))
+            c = lfilter(_MA_POLY[ma], [1.0, -a1, -a2], w, axis=1)[:, burn:] / arma_unit_std(a1, a2, ma)
+            e = rng.standard_normal(shape)
+            return self.torque_sd * (np.sqrt(share) * e + np.sqrt(1.0 - share) * c)
         e = rng.standard_normal(shape)
         phi = float(np.clip(self.torque_phi, 0.0, 0.999))
         if phi > 0:
@@ -94,7 +108,8 @@ def null_model(rec_in, cond, path: str, draws: int, blocks: np.ndarray) -> NullM
     from ._condition import perturbed_kinematics
 
     pairs = tuple(perturbed_kinematics(rec_in, cond, path, seed) for seed in range(draws))
-    return NullModel(float(cond.torque_noise), float(cond.torque_noise_colour), pairs, blocks)
+    return NullModel(float(cond.torque_noise), float(cond.torque_noise_colour), pairs, blocks,
+                     torque_arma=tuple(cond.torque_noise_arma))
 
 
 def _orth(X: np.ndarray, rtol: float = 1e-8) -> np.ndarray:

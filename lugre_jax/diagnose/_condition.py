@@ -132,8 +132,80 @@ def _third_difference_gain(k, phi):
     return 1.0 - (30.0 * phi ** k - 12.0 * phi ** (2 * k) + 2.0 * phi ** (3 * k)) / 20.0
 
 
+# Autocorrelation weights of the moving-average parts the broader colour family allows: none, a zero
+# at the Nyquist frequency (1 + z^-1) and a double one ((1 + z^-1)^2, a second-order Butterworth's
+# or any bilinear-transformed second-order low-pass's), at lags 0, 1, 2.
+_MA_WEIGHTS = ((1.0,), (2.0, 1.0), (6.0, 4.0, 1.0))
+_MA_POLY = ((1.0,), (1.0, 1.0), (1.0, 2.0, 1.0))
+
+
+def _arma_acf(a1: float, a2: float, ma: int, hmax: int) -> np.ndarray:
+    """Autocorrelation at lags 0..hmax of ``(1 + z^-1)^ma`` over the AR(2) ``1 - a1 z^-1 - a2 z^-2``
+    (a stationary pair), from the AR(2)'s Yule-Walker recursion and the MA part's weights."""
+    w = _MA_WEIGHTS[ma]
+    H = hmax + len(w)
+    r = np.empty(H + 1)
+    r[0], r[1] = 1.0, a1 / (1.0 - a2)
+    for h in range(2, H + 1):
+        r[h] = a1 * r[h - 1] + a2 * r[h - 2]
+    if len(w) == 1:
+        return r[:hmax + 1]
+    full = np.concatenate([r[:0:-1], r])  # lags -H..H
+    h = np.arange(hmax + 1) + H
+    g = w[0] * full[h]
+    for m in range(1, len(w)):
+        g = g + w[m] * (full[h - m] + full[h + m])
+    return g / g[0]
+
+
+def _arma_grid() -> list[tuple[float, float]]:
+    """AR(2) pairs of the broader colour family: complex poles (radius 0.001-0.999 on a log scale of
+    1 - radius, angle up to pi/2: a resonant low-pass) and real pole pairs (one pole 0.001-0.999,
+    the other -0.9..0.9)."""
+    out = []
+    for rad in 1.0 - np.logspace(-3.0, 0.0, 31)[:-1]:
+        out += [(2.0 * rad * np.cos(th), -rad ** 2) for th in np.linspace(0.0, np.pi / 2.0, 16)[1:]]
+    for p1 in 1.0 - np.logspace(-3.0, 0.0, 31)[:-1]:
+        out += [(p1 + p2, -p1 * p2) for p2 in np.linspace(-0.9, 0.9, 13)]
+    return out
+
+
+_ARMA_GAINS: dict = {}
+
+
+def _arma_gains(lags: np.ndarray) -> tuple[list, np.ndarray, np.ndarray]:
+    """For every member of the broader family (AR(2) pair x MA part): its lag-k third-difference
+    gain at ``lags`` (rows of the second array) and at half the largest lag (the third), cached per
+    lag set."""
+    key = tuple(int(k) for k in lags)
+    if key not in _ARMA_GAINS:
+        kk = np.asarray(key, int)
+        half = int(kk[-1] // 2)
+        members, gains, at_half = [], [], []
+        for a1, a2 in _arma_grid():
+            for ma in range(len(_MA_WEIGHTS)):
+                r = _arma_acf(a1, a2, ma, 3 * max(kk[-1], half))
+                members.append((float(a1), float(a2), ma))
+                gains.append(1.0 - (30.0 * r[kk] - 12.0 * r[2 * kk] + 2.0 * r[3 * kk]) / 20.0)
+                at_half.append(1.0 - (30.0 * r[half] - 12.0 * r[2 * half] + 2.0 * r[3 * half]) / 20.0)
+        _ARMA_GAINS[key] = (members, np.array(gains), np.array(at_half))
+    return _ARMA_GAINS[key]
+
+
+def arma_unit_std(a1: float, a2: float, ma: int) -> float:
+    """Std of ``(1 + z^-1)^ma / (1 - a1 z^-1 - a2 z^-2)`` driven by unit white noise."""
+    from scipy.signal import lfilter
+
+    rad = float(np.max(np.abs(np.roots([1.0, -a1, -a2]))))
+    n = int(min(200_000, max(1_000, 30.0 / max(1.0 - rad, 1e-6))))
+    imp = np.zeros(n)
+    imp[0] = 1.0
+    return float(np.sqrt(np.sum(lfilter(_MA_POLY[ma], [1.0, -a1, -a2], imp) ** 2)))
+
+
 def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
-                     colour_chi2: float = DiagnoseConfig.colour_chi2, signal_var=None) -> tuple[float, float]:
+                     colour_chi2: float = DiagnoseConfig.colour_chi2, signal_var=None,
+                     detail: bool = False) -> tuple:
     """(std, phi): the per-sample noise std of ``x`` seen through its colour, and the AR(1)
     coefficient of that colour (0: white, the estimate is then :func:`hf_noise_std`).
 
@@ -142,7 +214,16 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     difference has variance ``20*sigma^2*g`` (g rises from 1 - 0.9*phi to 1 as k passes the
     correlation length), plus a smooth signal's part. Colour is claimed only when the best phi
     beats phi = 0 by ``colour_chi2`` (:attr:`DiagnoseConfig.colour_chi2`); a drive's averaged torque
-    (TRO2021) is such a noise.
+    (TRO2021) is such a noise. A broader family is then tried: a white part plus an ARMA part whose
+    AR(2) poles are complex (a resonant or second-order low-pass) or real, with no MA zero or one or two
+    at the Nyquist frequency (a bilinear-transformed filter's); claimed only when it beats the model
+    chosen so far by ``colour_chi2`` again (three more parameters; an AR(1) or white noise keeps its
+    estimate), only where its plateau shows (as for AR(1)), and only where the profile rises over its
+    first four lags by ``sqrt(colour_chi2)`` standard errors (colour, not a signal's departure from k^6
+    at long lags). A second-order low-passed noise, which
+    AR(1) reads at half its std, is then read within a few per cent (``tests/test_noise_colour.py``).
+    ``detail``: return ``(std, phi, arma)``, ``arma`` the broader model ``(white share, a1, a2, ma)``
+    or ``()``; ``phi`` is then its lag-1 autocorrelation.
     ``profile``: the :func:`noise_profile` of ``x`` if already computed (with ``jump_std``).
     ``signal_var``: a prediction's :func:`signal_profile` at the profile's lags, a further signal
     column (its shape, where the motion's third differences grow more slowly than k^6), with its
@@ -174,12 +255,53 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     # correlation would be an extrapolation, so the estimate stays a lower bound there
     phis = [phi for phi in 1.0 - np.logspace(-3.0, 0.0, 61)[:-1]
             if _third_difference_gain(k[-1] / 2.0, phi) >= 0.9]
-    if not phis:
-        return white, 0.0
-    best = min((fit(phi) + (phi,) for phi in phis), key=lambda r: r[0])
-    if chi0 - best[0] < colour_chi2 or best[1] <= white ** 2:
-        return white, 0.0
-    return float(np.sqrt(best[1])), float(best[2])
+    chosen = (chi0, white ** 2, 0.0, ())
+    if phis:
+        best = min((fit(phi) + (phi,) for phi in phis), key=lambda r: r[0])
+        if chi0 - best[0] >= colour_chi2 and best[1] > white ** 2:
+            chosen = (best[0], best[1], best[2], ())
+    # the broader family only where the profile rises over its first lags (1 to 4 samples, where a
+    # smooth signal's third difference is negligible) by sqrt(colour_chi2) standard errors: a colour
+    # shows there, and its extra shapes do not take up a signal's departure from k^6 at long lags
+    j = min(3, lags.size - 1)
+    rise = (v[j] - v[0]) / float(np.hypot(sv[0], sv[j]))
+    broad = _broader_colour(lags, v, sv, k, signal_var) if rise >= np.sqrt(colour_chi2) else None
+    if broad is not None and chosen[0] - broad[0] >= colour_chi2 and broad[1] > white ** 2:
+        chosen = broad
+    out = (float(np.sqrt(chosen[1])), float(chosen[2]))
+    return out + (chosen[3],) if detail else out
+
+
+def _broader_colour(lags, v, sv, k, signal_var):
+    """The best member of :func:`torque_noise_std`'s broader family on the profile variances ``v``
+    (standard errors ``sv``): ``(chi2, variance, lag-1 autocorrelation, (white share, a1, a2, ma))``,
+    or None when no member's plateau shows. The white and ARMA variances and the k^6 part are
+    non-negative least squares per member (the signal column, where given, bounded by 1)."""
+    from scipy.optimize import lsq_linear, nnls
+
+    members, gains, at_half = _arma_gains(lags)
+    cols = [np.ones_like(k), None, (k / k[-1]) ** 6]
+    with_signal = signal_var is not None and np.any(signal_var > 0)
+    if with_signal:
+        cols.append(np.asarray(signal_var, float) / 20.0)
+    best = None
+    for (a1, a2, ma), g, gh in zip(members, gains, at_half):
+        cols[1] = g
+        A = np.column_stack(cols) / sv[:, None]
+        if with_signal:
+            sol = lsq_linear(A, v / sv, bounds=([0.0] * 4, [np.inf, np.inf, np.inf, 1.0]), method="bvls")
+            coef, chi = sol.x, 2.0 * sol.cost
+        else:
+            coef, rn = nnls(A, v / sv)
+            chi = rn ** 2
+        var = coef[0] + coef[1]
+        if var <= 0 or (coef[0] + coef[1] * gh) / var < 0.9:
+            continue
+        if best is None or chi < best[0]:
+            share = coef[0] / var
+            rho1 = (1.0 - share) * _arma_acf(a1, a2, ma, 1)[1]
+            best = (chi, var, rho1, (float(share), a1, a2, ma))
+    return best
 
 
 def noise_estimate_open(x, std: float, profile=None) -> bool:
@@ -191,8 +313,8 @@ def noise_estimate_open(x, std: float, profile=None) -> bool:
 
 
 def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseConfig.colour_chi2,
-                       outlier_std: float = DiagnoseConfig.outlier_std, signal_var=None) -> tuple[float, float, bool]:
-    """(std, phi, open) of the torque channel from its :func:`noise_profile` (computed when not
+                       outlier_std: float = DiagnoseConfig.outlier_std, signal_var=None) -> tuple:
+    """(std, phi, open, arma) of the torque channel from its :func:`noise_profile` (computed when not
     given): :func:`torque_noise_std`, and :func:`noise_estimate_open` only where colour was claimed
     (a white estimate is read at lag 1, where the signal is absent, and the longest lags of a white
     recording hold the signal, so the flag would fire on white noise too). ``signal_var``: a
@@ -201,16 +323,17 @@ def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseCon
     the colour's shape instead (a noise whose profile is not AR(1)'s, as a drive's averaged current),
     and the estimate without it stays."""
     profile = noise_profile(torque, outlier_std=outlier_std) if profile is None else profile
-    st, phi = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2)
+    st, phi, arma = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2, detail=True)
     if signal_var is not None:
-        st, phi = min((st, phi), torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2,
-                                                  signal_var=signal_var))
-    return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile))
+        st, phi, arma = min((st, phi, arma), torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2,
+                                                              signal_var=signal_var, detail=True),
+                            key=lambda m: m[0])
+    return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile)), arma
 
 
 def refined_torque_noise(torque, prediction, std: float, share: float = DiagnoseConfig.resolved_share, *,
                          colour_chi2: float = DiagnoseConfig.colour_chi2,
-                         outlier_std: float = DiagnoseConfig.outlier_std) -> tuple[float, float, bool]:
+                         outlier_std: float = DiagnoseConfig.outlier_std) -> tuple:
     """:func:`torque_noise_model` again, with the lag-k third differences left out where the fitted
     model's ``prediction`` of the torque has its own lag-k third difference above
     ``share`` of the noise's (``std``, the first estimate): there the signal, not the
@@ -243,7 +366,9 @@ class Conditioning:
     """How the kinematics were conditioned, and the noise estimated from the data.
 
     ``torque_noise`` [torque unit] (its colour ``torque_noise_colour``: the AR(1) coefficient
-    fitted by :func:`torque_noise_std`, 0 for white noise; ``torque_noise_open``: the noise is
+    fitted by :func:`torque_noise_std`, 0 for white noise, or the lag-1 autocorrelation of the
+    broader model ``torque_noise_arma`` (white share, a1, a2, MA zeros; empty unless claimed);
+    ``torque_noise_open``: the noise is
     coloured and its profile still rises past the estimate at its longest lag, so the estimate may
     be a lower bound), ``velocity_noise`` of the velocity column (0 when there is none) and
     ``position_noise`` (including quantisation, ``q/sqrt(12)``) per sample; ``source``:
@@ -271,6 +396,7 @@ class Conditioning:
     unresolved_fraction: float = 0.0
     torque_noise_colour: float = 0.0
     torque_noise_open: bool = False
+    torque_noise_arma: tuple = ()
     velocity_measured: bool = True
     position_measured: bool = True
     order: int = 3
@@ -405,7 +531,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
     cfg = DiagnoseConfig() if cfg is None else cfg
-    st, st_phi, st_open = torque_noise_model(rec.torque, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
+    st, st_phi, st_open, st_arma = torque_noise_model(rec.torque, colour_chi2=cfg.colour_chi2,
+                                                      outlier_std=cfg.outlier_std)
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
@@ -452,7 +579,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     if error_only:
         return best[0]
     _, source, W, order, sig_v, sig_a, a2, sig_d = best
-    common = dict(torque_noise=st, torque_noise_colour=st_phi, torque_noise_open=st_open, velocity_noise=sv,
+    common = dict(torque_noise=st, torque_noise_colour=st_phi, torque_noise_open=st_open, torque_noise_arma=st_arma,
+                  velocity_noise=sv,
                   position_noise=float(sp), quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas,
                   position_measured=pos_meas)
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W, order)
