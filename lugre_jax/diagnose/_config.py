@@ -98,7 +98,9 @@ class DiagnoseConfig:
       friction's rise through a reversal; a Gaussian noise puts 6e-5 of its mass there).
     - ``colour_chi2`` (16.0): the torque noise is read as coloured (AR(1)) only when that profile
       fits the lags better than white noise by this chi-square (a four-standard-error improvement:
-      a white noise read as coloured puts the floor too high).
+      a white noise read as coloured puts the floor too high); the broader colours (a white part plus
+      an ARMA part) only when they fit better again by as much, and the profile rises over its first
+      four lags by its square root in standard errors.
     - ``big_acceleration`` (0.2): accelerations above this share of the recording's acceleration
       scale identify the inertia (its start in the fit) and, as events, must stay in the fit (the
       held-out phase's event rule); below it the inertial torque is within a few noise std of the
