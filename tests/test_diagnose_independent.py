@@ -91,7 +91,7 @@ def test_torque_noise_through_a_prediction_leaves_the_signal_out():
     true = g.torque_noise_std
     s0, _ = torque_noise_std(g.torque)
     assert s0 > 1.15 * true
-    s1, phi, _ = refined_torque_noise(g.torque, g.true["torque"], s0)
+    s1, phi, _, _ = refined_torque_noise(g.torque, g.true["torque"], s0)
     assert abs(s1 / true - 1) < 0.07 and phi > 0.4
     prep, _ = S._prepare(g.to_recording(), DiagnoseConfig(), None, "lugre", False)
     assert prep.cond.torque_noise > 1.15 * true

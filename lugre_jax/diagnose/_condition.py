@@ -404,7 +404,8 @@ class Conditioning:
     bias_nm: np.ndarray | None = dataclasses.field(default=None, repr=False, compare=False)
 
     def to_json(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "bias_nm"}
+        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v
+                for f in dataclasses.fields(self) if f.name != "bias_nm"}
 
 
 def _gain(W, deriv, dt, order=3):
