@@ -127,9 +127,15 @@ def signal_profile(x, signal, lags, limit: float, jump_std: float | None = 6.0) 
     return np.array(out, float)
 
 
+def _gain_from_acf(r_k, r_2k, r_3k):
+    """var of the lag-k third difference of a unit-variance noise over 20, from its autocorrelation
+    at lags k, 2k and 3k (``x[i] - 3x[i+k] + 3x[i+2k] - x[i+3k]``: 20 - 30 r_k + 12 r_2k - 2 r_3k)."""
+    return 1.0 - (30.0 * r_k - 12.0 * r_2k + 2.0 * r_3k) / 20.0
+
+
 def _third_difference_gain(k, phi):
-    """var of the lag-k third difference of a unit-variance AR(1) noise (coefficient phi) over 20."""
-    return 1.0 - (30.0 * phi ** k - 12.0 * phi ** (2 * k) + 2.0 * phi ** (3 * k)) / 20.0
+    """:func:`_gain_from_acf` of an AR(1) noise (coefficient phi: autocorrelation phi^k)."""
+    return _gain_from_acf(phi ** k, phi ** (2 * k), phi ** (3 * k))
 
 
 # Autocorrelation weights of the moving-average parts the broader colour family allows: none, a zero
@@ -186,8 +192,8 @@ def _arma_gains(lags: np.ndarray) -> tuple[list, np.ndarray, np.ndarray]:
             for ma in range(len(_MA_WEIGHTS)):
                 r = _arma_acf(a1, a2, ma, 3 * max(kk[-1], half))
                 members.append((float(a1), float(a2), ma))
-                gains.append(1.0 - (30.0 * r[kk] - 12.0 * r[2 * kk] + 2.0 * r[3 * kk]) / 20.0)
-                at_half.append(1.0 - (30.0 * r[half] - 12.0 * r[2 * half] + 2.0 * r[3 * half]) / 20.0)
+                gains.append(_gain_from_acf(r[kk], r[2 * kk], r[3 * kk]))
+                at_half.append(_gain_from_acf(r[half], r[2 * half], r[3 * half]))
         _ARMA_GAINS[key] = (members, np.array(gains), np.array(at_half))
     return _ARMA_GAINS[key]
 
