@@ -58,17 +58,9 @@ class NullModel:
 
     def torque_noise(self, rng: np.random.Generator, shape: tuple[int, int]) -> np.ndarray:
         if self.torque_arma:
-            # the broader colour (_condition.torque_noise_std): a white share plus the unit-variance
-            # ARMA part, started a settling time early so that it is stationary
-            from ._condition import _MA_POLY, arma_unit_std
+            from ._condition import broader_colour_noise
 
-            share, a1, a2, ma = self.torque_arma
-            rad = float(np.max(np.abs(np.roots([1.0, -a1, -a2]))))
-            burn = int(min(50_000, 10.0 / max(1.0 - rad, 1e-4)))
-            w = rng.standard_normal((shape[0], shape[1] + burn))
-            c = lfilter(_MA_POLY[ma], [1.0, -a1, -a2], w, axis=1)[:, burn:] / arma_unit_std(a1, a2, ma)
-            e = rng.standard_normal(shape)
-            return self.torque_sd * (np.sqrt(share) * e + np.sqrt(1.0 - share) * c)
+            return self.torque_sd * broader_colour_noise(rng, shape, self.torque_arma)
         e = rng.standard_normal(shape)
         phi = float(np.clip(self.torque_phi, 0.0, 0.999))
         if phi > 0:

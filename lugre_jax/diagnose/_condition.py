@@ -198,15 +198,33 @@ def _arma_gains(lags: np.ndarray) -> tuple[list, np.ndarray, np.ndarray]:
     return _ARMA_GAINS[key]
 
 
+def _pole_radius(a1: float, a2: float) -> float:
+    """The largest pole radius of the AR(2) ``1 - a1 z^-1 - a2 z^-2`` (its memory: ~1/(1 - radius))."""
+    return float(np.max(np.abs(np.roots([1.0, -a1, -a2]))))
+
+
 def arma_unit_std(a1: float, a2: float, ma: int) -> float:
     """Std of ``(1 + z^-1)^ma / (1 - a1 z^-1 - a2 z^-2)`` driven by unit white noise."""
     from scipy.signal import lfilter
 
-    rad = float(np.max(np.abs(np.roots([1.0, -a1, -a2]))))
-    n = int(min(200_000, max(1_000, 30.0 / max(1.0 - rad, 1e-6))))
+    n = int(min(200_000, max(1_000, 30.0 / max(1.0 - _pole_radius(a1, a2), 1e-6))))
     imp = np.zeros(n)
     imp[0] = 1.0
     return float(np.sqrt(np.sum(lfilter(_MA_POLY[ma], [1.0, -a1, -a2], imp) ** 2)))
+
+
+def broader_colour_noise(rng: np.random.Generator, shape: tuple[int, int], arma: tuple) -> np.ndarray:
+    """Unit-variance draws (rows) of the broader colour ``arma = (white share, a1, a2, ma)`` of
+    :func:`torque_noise_std`: the white share plus the unit-variance ARMA part, started a settling
+    time early so that it is stationary."""
+    from scipy.signal import lfilter
+
+    share, a1, a2, ma = arma
+    burn = int(min(50_000, 10.0 / max(1.0 - _pole_radius(a1, a2), 1e-4)))
+    w = rng.standard_normal((shape[0], shape[1] + burn))
+    c = lfilter(_MA_POLY[ma], [1.0, -a1, -a2], w, axis=1)[:, burn:] / arma_unit_std(a1, a2, ma)
+    e = rng.standard_normal(shape)
+    return np.sqrt(share) * e + np.sqrt(1.0 - share) * c
 
 
 def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
