@@ -2939,6 +2939,73 @@ def calib40_settings(n: int = 24):
                             21000, n, loops=("pid", "pi"), nff=1, plant_k=2, fs_k=3, tn_rule=(1, 3))
 
 
+# fresh38, outside15 and calib41: the design as of d59c6ef, frozen before their first run; fresh38's
+# and outside15's rates and fresh38's variations are drawn (numpy default_rng(38), (3814) and
+# (4115)), not chosen; calib41 reaches past the rates, noise levels, colours and sensor steps of the
+# sets before it (120-1,500 Hz, 0.025-0.16 N*m, AR(1) up to 0.85); three plants no earlier set used
+_F38_FS = {"a": 540.0, "b": 375.0, "c": 705.0, "d": 645.0, "e": 855.0, "f": 230.0, "g": 785.0, "h": 550.0,
+           "i": 505.0}
+_F38_VARIED = _varied(1.3559, 0.9138, -0.1365)
+
+
+def fresh38_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows, at 230-855 Hz (by recipe, drawn), seeds 21300 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh38", _F38_FS, _F38_VARIED, 21300)
+
+
+PLUCKY = T.Plant(J=0.045, Fc=0.42, Fs=0.66, vs=0.03, sigma2=0.7, sigma0=140.0, sigma1=0.7)
+FLEET = T.Plant(J=0.13, Fc=0.85, Fs=1.3, vs=0.05, sigma2=1.2, sigma0=210.0, sigma1=1.4)
+DOUR = T.Plant(J=0.2, Fc=1.3, Fs=1.7, vs=0.07, sigma2=1.6, sigma0=260.0, sigma1=2.2)
+_add_plants({"plucky": (PLUCKY, T.VelocityPIController(kp=2.2, ki=13.0)),
+             "fleet": (FLEET, T.VelocityPIController(kp=6.5, ki=39.0)),
+             "dour": (DOUR, T.VelocityPIController(kp=10.0, ki=60.0))},
+            {"plucky": T.PositionPIDController.tuned(0.045, 3.6, tf=0.002),
+             "fleet": T.PositionPIDController.tuned(0.13, 3.1, tf=0.003),
+             "dour": T.PositionPIDController.tuned(0.2, 2.9, tf=0.004)})
+
+_OUT15_PLANTS = {"gritty": "plucky", "sprightly": "fleet", "stolid": "dour"}
+_OUT15_FS = dict(zip("abcdefgh", (755.0, 390.0, 540.0, 490.0, 575.0, 770.0, 210.0, 520.0)))
+_OUT15_RECIPES = {k: (_OUT15_PLANTS[r[0]],) + r[1:4] + (_OUT15_FS[k],) + r[5:] for k, r in _OUT14_RECIPES.items()}
+
+
+def outside15_settings():
+    """A fifteenth outside set (issue #31), fixed and committed before its first run: outside14's rows
+    and excitations on PLUCKY, FLEET and DOUR, at drawn rates (210-770 Hz) and seeds 21500 + k."""
+    return _outside_set("outside15_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT15_RECIPES, 21500)
+
+
+CALIB41_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.03, 0.11, 0.45, 1.6, 4.4), "dwell": 2.6 if i % 2 else 3.1,
+                            "transition": 0.25, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.8 + 0.6 * (i % 3), "f0": 0.06, "f1": 1.9, "duration": 34.0,
+                             "bias": 0.45 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.0 + 0.7 * (i % 2), "f0": 0.045, "f1": 1.1 + 0.35 * (i % 3),
+                            "n": 10 + (i % 3), "duration": 36.0},
+    "position_sine": lambda i: {"amplitude": 1.8 + 3.1 * (i % 3), "frequency": 0.18 if i % 2 else 0.27,
+                                "duration": 33.0},
+    "point_to_point": lambda i: {"amplitudes": (1.9, -2.7, 2.2, -1.6, 2.4) if i % 2 else (-2.6, 1.8, -2.2, 2.9, -1.7),
+                                 "move_time": 0.9 if i % 2 else 1.5, "dwell": 2.0 if i % 2 else 1.4, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.04, 0.18, 0.75, 2.2, 4.1), "dwell": 2.1 if i % 2 else 1.7,
+                              "transition": 0.0, "repeats": 2},
+}
+
+
+def calib41_settings(n: int = 24):
+    """A forty-first effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds x both loops (the position PID without feedforward in every fourth row), the
+    velocity sensor alone in rows 0-11 and both sensors in rows 12-23, on PLUCKY, FLEET and DOUR,
+    at rates, noise levels and sensor steps past those of the sets before it: 120-1,500 Hz, torque
+    noise 0.025-0.16 N*m, white in half the rows and AR(1) of coefficient 0.85 or 0.35 in the
+    other half, velocity noise 0.0015 or 0.009 deg/s, quantisation 0.0003 or 0.0025 deg; seeds
+    21400 + i."""
+    return _effect_free_set("calib41", CALIB41_EXCITATIONS, ["plucky", "fleet", "dour"],
+                            [(False, True), (True, True), (True, False)], [120.0, 1500.0, 170.0, 1100.0, 650.0],
+                            [0.025, 0.16, 0.09], [0.0, 0.85, 0.0, 0.35], [0.0015, 0.009], [0.0003, 0.0025],
+                            21400, n, loops=("pi", "pid"), nff=3, plant_k=1, fs_k=2, tn_rule=(2, 5))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -2976,7 +3043,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib37": calib37_settings, "outside12": outside12_settings, "fresh35": fresh35_settings,
             "calib38": calib38_settings, "outside13": outside13_settings, "fresh36": fresh36_settings,
             "calib39": calib39_settings, "fresh37": fresh37_settings, "outside14": outside14_settings,
-            "calib40": calib40_settings,
+            "calib40": calib40_settings, "fresh38": fresh38_settings, "outside15": outside15_settings,
+            "calib41": calib41_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
