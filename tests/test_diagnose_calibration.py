@@ -665,8 +665,8 @@ def test_noise_fit_start_and_plausibility_settings_reach_their_use():
     # the colour must beat white noise by more than any profile can
     rng = np.random.default_rng(4)
     x = lfilter([np.sqrt(1 - 0.7 ** 2)], [1.0, -0.7], 0.1 * rng.standard_normal(40_000))
-    assert torque_noise_model(x)[1] > 0.5
-    assert torque_noise_model(x, colour_chi2=1e12)[1] == 0.0
+    assert torque_noise_model(x).phi > 0.5
+    assert torque_noise_model(x, colour_chi2=1e12).phi == 0.0
     # the grid of further starts: 13 humps x 6 pre-sliding lengths by default, 2 x 1 when narrowed
     rec, _ = make_recording(seed=1, effect=None, duration=20.0)
     assert len(initial_baselines(rec)[1]) == 78

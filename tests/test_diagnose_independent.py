@@ -65,7 +65,8 @@ def test_coloured_torque_noise_is_generated_and_estimated():
     assert abs(np.std(e) / 0.08 - 1) < 0.05
     assert abs(np.corrcoef(e[1:], e[:-1])[0, 1] - np.exp(-2 * np.pi * 10 / 200)) < 0.03
     assert hf_noise_std(g.torque) < 0.05
-    sd, phi = torque_noise_std(g.torque)
+    est = torque_noise_std(g.torque)
+    sd, phi = est.std, est.phi
     assert abs(sd / 0.08 - 1) < 0.10 and phi > 0.5
 
 
@@ -89,9 +90,10 @@ def test_torque_noise_through_a_prediction_leaves_the_signal_out():
 
     g = _fast_multisine_coloured()
     true = g.torque_noise_std
-    s0, _ = torque_noise_std(g.torque)
+    s0 = torque_noise_std(g.torque).std
     assert s0 > 1.15 * true
-    s1, phi, _, _ = refined_torque_noise(g.torque, g.true["torque"], s0)
+    refined = refined_torque_noise(g.torque, g.true["torque"], s0)
+    s1, phi = refined.std, refined.phi
     assert abs(s1 / true - 1) < 0.07 and phi > 0.4
     prep, _ = S._prepare(g.to_recording(), DiagnoseConfig(), None, "lugre", False)
     assert prep.cond.torque_noise > 1.15 * true

@@ -31,7 +31,8 @@ def test_white_noise_is_white(seed):
     """White noise of std 0.1 under a smooth 3-N*m signal: no colour is claimed, and the estimate is
     the third-difference one (the diagnosis of white recordings is unchanged), within 5 % of 0.1."""
     x = _smooth() + 0.1 * np.random.default_rng(seed).standard_normal(N)
-    sd, phi = torque_noise_std(x)
+    est = torque_noise_std(x)
+    sd, phi = est.std, est.phi
     assert phi == 0.0 and sd == hf_noise_std(x)
     assert abs(sd / 0.1 - 1) < 0.05
 
@@ -41,7 +42,8 @@ def test_ar1_noise_full_std(phi):
     """AR(1) noise of std 0.1 (corner fs*(1-phi)/(2*pi)): the white-noise estimate sees only a part
     (0.95: about a fifth), the colour-aware one the whole std within 10 %."""
     x = _smooth() + 0.1 * _ar1(phi)
-    sd, phi_hat = torque_noise_std(x)
+    est = torque_noise_std(x)
+    sd, phi_hat = est.std, est.phi
     assert hf_noise_std(x) < 0.1 * np.sqrt(1.0 - 0.9 * phi) * 1.05
     assert abs(sd / 0.1 - 1) < 0.10, (sd, phi_hat)
     assert abs(phi_hat - phi) < 0.1
@@ -55,9 +57,9 @@ def test_steps_between_set_points_are_not_colour():
     rng = np.random.default_rng(3)
     levels = np.repeat(np.cumsum(rng.choice([-1, 1], 40) * rng.uniform(0.5, 2.0, 40)), 500)
     x = levels + 0.1 * _ar1(0.9)
-    sd, _ = torque_noise_std(x)
+    sd = torque_noise_std(x).std
     assert abs(sd / 0.1 - 1) < 0.15, sd
-    assert torque_noise_std(x, jump_std=None)[0] > 0.115
+    assert torque_noise_std(x, jump_std=None).std > 0.115
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -73,7 +75,8 @@ def test_fast_resolved_reversals_are_not_colour(seed):
     reversal = np.tanh(np.sin(2 * np.pi * i / 600.0) * 600.0 / (2 * np.pi * 4.0))
     x = 1.0 * reversal + 1.5 * np.sin(2 * np.pi * i / 600.0 + 1.2) + \
         0.05 * np.random.default_rng(seed).standard_normal(n)
-    sd, phi = torque_noise_std(x)
+    est = torque_noise_std(x)
+    sd, phi = est.std, est.phi
     assert phi == 0.0 and abs(sd / 0.05 - 1) < 0.05, (sd, phi)
 
 
@@ -83,10 +86,10 @@ def test_a_colour_past_the_profile_is_reported_open():
     for phi 0.8 noise it is not. (A smooth signal that fills the longest lags opens it too: the
     report says the floor *may* be a lower bound.)"""
     x = 0.1 * _ar1(0.995)
-    sd, _ = torque_noise_std(x)
+    sd = torque_noise_std(x).std
     assert sd < 0.09 and noise_estimate_open(x, sd)
     for y in (0.1 * np.random.default_rng(0).standard_normal(N), 0.1 * _ar1(0.8)):
-        assert not noise_estimate_open(y, torque_noise_std(y)[0])
+        assert not noise_estimate_open(y, torque_noise_std(y).std)
 
 
 def _fast_motion(seed, n=N):
@@ -106,10 +109,10 @@ def test_the_prediction_takes_a_fast_motion_out_of_the_colour(seed):
     is within 3 % (measured 0.989-1.002)."""
     sig = _fast_motion(seed)
     x = sig + 0.1 * _ar1(0.8, seed=seed)
-    first = torque_noise_std(x)[0]
-    left_out = torque_noise_model(x, noise_profile(x, signal=sig, limit=0.5 * np.sqrt(20.0) * first))[0]
+    first = torque_noise_std(x).std
+    left_out = torque_noise_model(x, noise_profile(x, signal=sig, limit=0.5 * np.sqrt(20.0) * first)).std
     assert left_out > 0.105
-    assert abs(refined_torque_noise(x, sig, first)[0] / 0.1 - 1) < 0.03
+    assert abs(refined_torque_noise(x, sig, first).std / 0.1 - 1) < 0.03
 
 
 @pytest.mark.parametrize("seed", [1, 2])
@@ -121,7 +124,7 @@ def test_a_noisy_prediction_does_not_lower_the_estimate(seed):
     sig = _fast_motion(seed)
     x = sig + 0.1 * _ar1(0.8, seed=seed)
     pred = sig + 0.03 * _ar1(0.8, seed=100 + seed)
-    assert refined_torque_noise(x, pred, torque_noise_std(x)[0])[0] > 0.097
+    assert refined_torque_noise(x, pred, torque_noise_std(x).std).std > 0.097
 
 
 def test_the_signal_column_never_raises_the_estimate():
@@ -137,9 +140,9 @@ def test_the_signal_column_never_raises_the_estimate():
     signal_var = np.zeros(lags.size)
     signal_var[-1] = 20.0 * sd[-1] ** 2
     x = 0.039 * np.random.default_rng(0).standard_normal(N)
-    plain = torque_noise_std(x, profile=(lags, sd, se))[0]
-    assert torque_noise_std(x, profile=(lags, sd, se), signal_var=signal_var)[0] > 1.05 * plain
-    assert torque_noise_model(x, (lags, sd, se), signal_var=signal_var)[0] == plain
+    plain = torque_noise_std(x, profile=(lags, sd, se)).std
+    assert torque_noise_std(x, profile=(lags, sd, se), signal_var=signal_var).std > 1.05 * plain
+    assert torque_noise_model(x, (lags, sd, se), signal_var=signal_var).std == plain
 
 
 def _filtered(kind, n=N, seed=0):
@@ -164,8 +167,8 @@ def test_colours_beyond_ar1_full_std(kind):
     the Butterworth ones at 0.2-0.55x, the mixture at 0.9x): the broader family is claimed and the
     std read within 5 %."""
     x = _smooth() + 0.1 * _filtered(kind)
-    sd, phi, arma = torque_noise_std(x, detail=True)
-    assert arma and abs(sd / 0.1 - 1) < 0.05, (sd, arma)
+    est = torque_noise_std(x)
+    assert est.arma and abs(est.std / 0.1 - 1) < 0.05, est
 
 
 def test_broader_colour_null_draws_match_it():
@@ -175,7 +178,8 @@ def test_broader_colour_null_draws_match_it():
     from lugre_jax.diagnose._calibrate import NullModel
 
     n = 0.1 * _filtered("butter2", seed=3)
-    sd, phi, arma = torque_noise_std(_smooth() + n, detail=True)
+    est = torque_noise_std(_smooth() + n)
+    sd, phi, arma = est.std, est.phi, est.arma
     d = NullModel(sd, phi, (), np.zeros(N, int), torque_arma=arma).torque_noise(np.random.default_rng(0), (8, N))
     assert abs(np.std(d) / sd - 1) < 0.02
     for lag, tol in ((1, 0.02), (5, 0.1)):

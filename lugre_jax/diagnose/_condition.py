@@ -227,11 +227,24 @@ def broader_colour_noise(rng: np.random.Generator, shape: tuple[int, int], arma:
     return np.sqrt(share) * e + np.sqrt(1.0 - share) * c
 
 
+@dataclasses.dataclass(frozen=True)
+class TorqueNoise:
+    """The torque channel's noise as estimated from its third differences: ``std`` per sample;
+    ``phi`` its lag-1 autocorrelation (the AR(1) coefficient; 0 for white noise); ``arma`` the
+    broader colour ``(white share, a1, a2, ma)`` where claimed, else ``()``; ``open`` where the
+    profile still rises at its longest lag (:func:`noise_estimate_open`: ``std`` may be a lower
+    bound)."""
+
+    std: float
+    phi: float = 0.0
+    arma: tuple = ()
+    open: bool = False
+
+
 def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
-                     colour_chi2: float = DiagnoseConfig.colour_chi2, signal_var=None,
-                     detail: bool = False) -> tuple:
-    """(std, phi): the per-sample noise std of ``x`` seen through its colour, and the AR(1)
-    coefficient of that colour (0: white, the estimate is then :func:`hf_noise_std`).
+                     colour_chi2: float = DiagnoseConfig.colour_chi2, signal_var=None) -> TorqueNoise:
+    """The per-sample noise std of ``x`` seen through its colour, and the AR(1) coefficient of that
+    colour (0: white, the estimate is then :func:`hf_noise_std`), as a :class:`TorqueNoise`.
 
     The :func:`noise_profile` variances are fitted (weighted by their standard errors) by
     ``sigma^2*g(k, phi) + c*k^6``: a first-order low-passed (AR(1)) noise, whose lag-k third
@@ -246,8 +259,7 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     first four lags by ``sqrt(colour_chi2)`` standard errors (colour, not a signal's departure from k^6
     at long lags). A second-order low-passed noise, which
     AR(1) reads at half its std, is then read within a few per cent (``tests/test_noise_colour.py``).
-    ``detail``: return ``(std, phi, arma)``, ``arma`` the broader model ``(white share, a1, a2, ma)``
-    or ``()``; ``phi`` is then its lag-1 autocorrelation.
+    Where the broader model is claimed, ``arma`` holds it and ``phi`` is its lag-1 autocorrelation.
     ``profile``: the :func:`noise_profile` of ``x`` if already computed (with ``jump_std``).
     ``signal_var``: a prediction's :func:`signal_profile` at the profile's lags, a further signal
     column (its shape, where the motion's third differences grow more slowly than k^6), with its
@@ -260,7 +272,7 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     white = hf_noise_std(x)
     lags, sd, se = noise_profile(x, jump_std=jump_std) if profile is None else profile
     if lags.size < 3 or white <= 0:
-        return white, 0.0
+        return TorqueNoise(float(white))
     v = sd ** 2
     sv = np.maximum(2.0 * sd * se, 1e-3 * v)  # std error of each variance
     k = lags.astype(float)
@@ -292,8 +304,7 @@ def torque_noise_std(x, jump_std: float | None = 6.0, profile=None,
     broad = _broader_colour(lags, v, sv, k, signal_var) if rise >= np.sqrt(colour_chi2) else None
     if broad is not None and chosen[0] - broad[0] >= colour_chi2 and broad[1] > white ** 2:
         chosen = broad
-    out = (float(np.sqrt(chosen[1])), float(chosen[2]))
-    return out + (chosen[3],) if detail else out
+    return TorqueNoise(float(np.sqrt(chosen[1])), float(chosen[2]), tuple(chosen[3]))
 
 
 def _broader_colour(lags, v, sv, k, signal_var):
@@ -337,9 +348,9 @@ def noise_estimate_open(x, std: float, profile=None) -> bool:
 
 
 def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseConfig.colour_chi2,
-                       outlier_std: float = DiagnoseConfig.outlier_std, signal_var=None) -> tuple:
-    """(std, phi, open, arma) of the torque channel from its :func:`noise_profile` (computed when not
-    given): :func:`torque_noise_std`, and :func:`noise_estimate_open` only where colour was claimed
+                       outlier_std: float = DiagnoseConfig.outlier_std, signal_var=None) -> TorqueNoise:
+    """The torque channel's :class:`TorqueNoise` from its :func:`noise_profile` (computed when not
+    given): :func:`torque_noise_std`, with ``open`` (:func:`noise_estimate_open`) only where colour was claimed
     (a white estimate is read at lag 1, where the signal is absent, and the longest lags of a white
     recording hold the signal, so the flag would fire on white noise too). ``signal_var``: a
     prediction's signal column (:func:`torque_noise_std`); it only takes signal out of the profile,
@@ -347,17 +358,16 @@ def torque_noise_model(torque, profile=None, *, colour_chi2: float = DiagnoseCon
     the colour's shape instead (a noise whose profile is not AR(1)'s, as a drive's averaged current),
     and the estimate without it stays."""
     profile = noise_profile(torque, outlier_std=outlier_std) if profile is None else profile
-    st, phi, arma = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2, detail=True)
+    est = torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2)
     if signal_var is not None:
-        st, phi, arma = min((st, phi, arma), torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2,
-                                                              signal_var=signal_var, detail=True),
-                            key=lambda m: m[0])
-    return st, phi, bool(phi > 0 and noise_estimate_open(torque, st, profile)), arma
+        est = min(est, torque_noise_std(torque, profile=profile, colour_chi2=colour_chi2, signal_var=signal_var),
+                  key=lambda m: m.std)
+    return dataclasses.replace(est, open=bool(est.phi > 0 and noise_estimate_open(torque, est.std, profile)))
 
 
 def refined_torque_noise(torque, prediction, std: float, share: float = DiagnoseConfig.resolved_share, *,
                          colour_chi2: float = DiagnoseConfig.colour_chi2,
-                         outlier_std: float = DiagnoseConfig.outlier_std) -> tuple:
+                         outlier_std: float = DiagnoseConfig.outlier_std) -> TorqueNoise:
     """:func:`torque_noise_model` again, with the lag-k third differences left out where the fitted
     model's ``prediction`` of the torque has its own lag-k third difference above
     ``share`` of the noise's (``std``, the first estimate): there the signal, not the
@@ -556,8 +566,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     vel_meas = bool(rec.meta.get("velocity_measured", True))
     pos_meas = bool(rec.meta.get("position_measured", True))
     cfg = DiagnoseConfig() if cfg is None else cfg
-    st, st_phi, st_open, st_arma = torque_noise_model(rec.torque, colour_chi2=cfg.colour_chi2,
-                                                      outlier_std=cfg.outlier_std)
+    noise = torque_noise_model(rec.torque, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
+    st = noise.std
     sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
     q = quantisation_step(rec.position) if pos_meas else 0.0
     sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
@@ -604,8 +614,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     if error_only:
         return best[0]
     _, source, W, order, sig_v, sig_a, a2, sig_d = best
-    common = dict(torque_noise=st, torque_noise_colour=st_phi, torque_noise_open=st_open, torque_noise_arma=st_arma,
-                  velocity_noise=sv,
+    common = dict(torque_noise=st, torque_noise_colour=noise.phi, torque_noise_open=noise.open,
+                  torque_noise_arma=noise.arma, velocity_noise=sv,
                   position_noise=float(sp), quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas,
                   position_measured=pos_meas)
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W, order)

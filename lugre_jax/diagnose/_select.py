@@ -466,10 +466,10 @@ def _noise(prep: Prepared, prediction: np.ndarray, cfg) -> Prepared:
     from ._condition import refined_torque_noise
 
     c = prep.cond
-    st, phi, open_, arma = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise,
-                                          cfg.resolved_share, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
-    cond = dataclasses.replace(c, torque_noise=st, torque_noise_colour=phi, torque_noise_open=open_,
-                               torque_noise_arma=arma)
+    noise = refined_torque_noise(np.asarray(prep.rec.torque, float), prediction, c.torque_noise,
+                                 cfg.resolved_share, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
+    cond = dataclasses.replace(c, torque_noise=noise.std, torque_noise_colour=noise.phi,
+                               torque_noise_open=noise.open, torque_noise_arma=noise.arma)
     info = {**prep.info, "torque_noise_before_fit": {"std_nm": c.torque_noise, "colour": c.torque_noise_colour}}
     return dataclasses.replace(prep, cond=cond, info=info)
 
