@@ -3227,7 +3227,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib30", "outside9", "calib31", "fresh30",
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
-               "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40")
+               "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
+               "fresh38", "outside15", "calib41")
 
 
 def main():
