@@ -3006,6 +3006,48 @@ def calib41_settings(n: int = 24):
                             21400, n, loops=("pi", "pid"), nff=3, plant_k=1, fs_k=2, tn_rule=(2, 5))
 
 
+# calib42: for the torque noise capped by the baseline's held-out residual (the design of the commit
+# after these settings); strongly coloured noise at low rates, where the noise profile
+# reads high; three plants no earlier set used
+ELFIN = T.Plant(J=0.07, Fc=0.6, Fs=0.95, vs=0.042, sigma2=0.85, sigma0=175.0, sigma1=1.0)
+RUGGED = T.Plant(J=0.17, Fc=1.05, Fs=1.45, vs=0.06, sigma2=1.35, sigma0=230.0, sigma1=1.7)
+FRAIL = T.Plant(J=0.095, Fc=0.75, Fs=1.2, vs=0.038, sigma2=1.0, sigma0=190.0, sigma1=1.15)
+_add_plants({"elfin": (ELFIN, T.VelocityPIController(kp=3.5, ki=21.0)),
+             "rugged": (RUGGED, T.VelocityPIController(kp=8.5, ki=51.0)),
+             "frail": (FRAIL, T.VelocityPIController(kp=4.8, ki=29.0))},
+            {"elfin": T.PositionPIDController.tuned(0.07, 3.4, tf=0.002),
+             "rugged": T.PositionPIDController.tuned(0.17, 3.0, tf=0.004),
+             "frail": T.PositionPIDController.tuned(0.095, 3.3, tf=0.003)})
+
+CALIB42_EXCITATIONS = {
+    "staircase": lambda i: {"speeds": (0.035, 0.13, 0.5, 1.7, 3.9), "dwell": 2.9 if i % 2 else 2.4,
+                            "transition": 0.35, "repeats": 1},
+    "sine_sweep": lambda i: {"amplitude": 1.9 + 0.5 * (i % 3), "f0": 0.055, "f1": 1.6, "duration": 40.0,
+                             "bias": 0.5 + 0.3 * (i % 2)},
+    "multisine": lambda i: {"amplitude": 2.1 + 0.6 * (i % 2), "f0": 0.05, "f1": 1.15 + 0.3 * (i % 3),
+                            "n": 11 + (i % 2), "duration": 40.0},
+    "position_sine": lambda i: {"amplitude": 2.2 + 2.8 * (i % 3), "frequency": 0.2 if i % 2 else 0.13,
+                                "duration": 38.0},
+    "point_to_point": lambda i: {"amplitudes": (2.4, -2.1, 1.8, -2.6, 2.0) if i % 2 else (-2.0, 2.5, -1.9, 2.2, -2.4),
+                                 "move_time": 1.3 if i % 2 else 1.0, "dwell": 2.2 if i % 2 else 1.6, "repeats": 2},
+    "sharp_steps": lambda i: {"speeds": (0.045, 0.16, 0.7, 2.0, 3.7), "dwell": 2.3 if i % 2 else 1.8,
+                              "transition": 0.0, "repeats": 2},
+}
+
+
+def calib42_settings(n: int = 24):
+    """A forty-second effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds x both loops (the position PID without feedforward in every fourth row), both
+    sensors in rows 0-11, the position sensor alone in 12-23 (the velocity sensor alone in none), on ELFIN,
+    RUGGED and FRAIL, at 100-260 Hz with AR(1) torque noise in every row (coefficient 0.6, 0.75, 0.85
+    or 0.9), torque noise 0.04-0.1 N*m, velocity noise 0.002 or 0.006 deg/s, quantisation 0.0004 or
+    0.0015 deg; seeds 21600 + i."""
+    return _effect_free_set("calib42", CALIB42_EXCITATIONS, ["elfin", "rugged", "frail"],
+                            [(True, True), (True, False), (False, True)], [100.0, 200.0, 130.0, 260.0, 160.0],
+                            [0.04, 0.1, 0.07], [0.6, 0.85, 0.75, 0.9], [0.002, 0.006], [0.0004, 0.0015],
+                            21600, n, loops=("pi", "pid"), nff=1, plant_k=2, fs_k=3, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3044,7 +3086,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib38": calib38_settings, "outside13": outside13_settings, "fresh36": fresh36_settings,
             "calib39": calib39_settings, "fresh37": fresh37_settings, "outside14": outside14_settings,
             "calib40": calib40_settings, "fresh38": fresh38_settings, "outside15": outside15_settings,
-            "calib41": calib41_settings,
+            "calib41": calib41_settings, "calib42": calib42_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3228,7 +3270,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
-               "fresh38", "outside15", "calib41")
+               "fresh38", "outside15", "calib41", "calib42")
 
 
 def main():
