@@ -185,3 +185,33 @@ def test_broader_colour_null_draws_match_it():
     for lag, tol in ((1, 0.02), (5, 0.1)):
         rho = np.mean([np.corrcoef(x[:-lag], x[lag:])[0, 1] for x in d])
         assert abs(rho - np.corrcoef(n[:-lag], n[lag:])[0, 1]) < tol, (lag, rho)
+
+
+def test_torque_noise_is_capped_by_the_held_out_residual():
+    """Strong colour at a low rate (AR(1) 0.85 at 170 Hz, a 34-s sine sweep under a velocity PI: the
+    independent generator): the noise profile's plateau lies where the motion's differences are large
+    too, and it reads the noise 11 % high. A complete model cannot beat the floor, so the floor's
+    torque noise is at most the baseline's held-out mean square's upper bound (diagnose._select._floor);
+    it is then within 10 % of the true std, the profile's own estimate left in the conditioning."""
+    from lugre_jax.diagnose import DiagnoseConfig
+    from lugre_jax.diagnose import _model as M
+    from lugre_jax.diagnose import _select as S
+    from lugre_jax.testing import Plant, Sensors, SineSweep, VelocityPIController, generate
+
+    plant = Plant(J=0.13, Fc=0.85, Fs=1.3, vs=0.05, sigma2=1.2, sigma0=210.0, sigma1=1.4)
+    g = generate(SineSweep(amplitude=2.4, f0=0.06, f1=1.9, duration=34.0, bias=0.75), (), plant,
+                 VelocityPIController(kp=6.5, ki=39.0),
+                 Sensors(fs=170.0, torque_noise=0.16, torque_noise_ar=0.85, velocity_noise=0.0015, quantisation=0.0,
+                         position_column=False), seed=21401)
+    cfg = DiagnoseConfig()
+    prep, split = S._prepare(g.to_recording(), cfg, None, "lugre", False)
+    split = S._predicted(prep, split, False, cfg.resolved_share)
+    pred = np.asarray(M.predict(prep.base, prep.kin))
+    r0 = (np.asarray(prep.rec.torque) - pred) * split.keep
+    prep = S._noise(prep, pred, cfg)
+    floor = S._floor(prep, split, cfg, False, r0)
+    true = g.torque_noise_std
+    assert prep.cond.torque_noise / true > 1.1, prep.cond.torque_noise / true  # the profile alone
+    assert floor.torque_nm ** 2 <= S._held_ms_bound(r0, split.val, split.blocks) * (1 + 1e-12)
+    assert abs(floor.floor_nm / true - 1) < 0.1, floor.floor_nm / true
+    assert floor.null.torque_sd == floor.torque_nm

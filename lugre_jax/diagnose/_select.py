@@ -503,16 +503,24 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     kin_noise = 0.0
     if d.shape[0] > 1 and np.any(split.rows):
         kin_noise = float(np.sqrt(np.mean(centred_draws(d)[:, split.rows] ** 2)))
+    # a complete model cannot beat the floor: the baseline's held-out mean square (its upper bound)
+    # bounds the floor from above. Where it is below the torque noise itself, the noise's profile
+    # read high (a strong colour at a low rate, whose plateau lies where the motion's differences
+    # are large too), and the torque noise is that bound, in the floor and in the null draws
+    bound = _held_ms_bound(r0, split.val, split.blocks)
+    torque_nm = float(cond.torque_noise)
+    if 0.0 < bound < torque_nm ** 2:
+        torque_nm = float(np.sqrt(bound))
+        null = dataclasses.replace(null, torque_sd=torque_nm)
     # the simulated kinematic errors can be larger than the recording's (a velocity column whose
-    # high-frequency content is motion, not noise): a complete model cannot beat the floor, so where
-    # the baseline's held-out mean square (its upper bound) leaves less room above the torque
-    # noise, the kinematic part is scaled down to that room, in the floor and in the null draws
-    room = max(_held_ms_bound(r0, split.val, split.blocks) - cond.torque_noise ** 2, 0.0)
+    # high-frequency content is motion, not noise): where the bound leaves less room above the
+    # torque noise, the kinematic part is scaled down to that room, in the floor and in the draws
+    room = max(bound - torque_nm ** 2, 0.0)
     if kin_noise > 0 and kin_noise ** 2 > room:
         scale = float(np.sqrt(room) / kin_noise)
         null = dataclasses.replace(null, kinematic_scale=scale)
         kin_noise *= scale
-    floor = float(np.hypot(cond.torque_noise, kin_noise))
+    floor = float(np.hypot(torque_nm, kin_noise))
     # the shapes a correct model's residual keeps in expectation, which no test may claim: the
     # kinematics' systematic error (above), the smoothing's bias, J times the change of the
     # acceleration from the window W to 2W-1 (signed; the same estimate the conditioning chose by),
@@ -531,7 +539,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
-    return Floor(cond.torque_noise, kin_noise, floor, ratio, lam, known, null, scales)
+    return Floor(torque_nm, kin_noise, floor, ratio, lam, known, null, scales)
 
 
 def _quantised_derivatives(cond) -> bool:
