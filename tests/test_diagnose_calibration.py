@@ -618,13 +618,13 @@ def test_baseline_fit_reaches_the_true_parameters_basin_where_the_data_driven_st
 
 @pytest.mark.parametrize("rest_scale", [1.5, 0.3])
 def test_held_out_mean_square_bound_has_its_monte_carlo_spread_and_level(rest_scale):
-    """The floor's cap on the kinematic part uses an upper 2-sigma bound of the held-out mean square
-    (_held_ms_bound). On an AR(1) residual (0.5) of one size, the bound's standard error matches the
+    """The floor's cap on its torque and kinematic parts uses an upper 2-sigma bound of the residual's
+    mean square (_ms_bound). On an AR(1) residual (0.5) of one size, the bound's standard error matches the
     Monte Carlo spread of the mean square within 25 %; with a third of the blocks at a fifth of the
     size (rest against motion), the size pattern counts as spread, so the bound is wider (1.5-3.5x)
     but still holds. Either way the true mean square lies above the bound in at most 6 % of 400
     replicates (2.3 % expected at a 2-sigma bound)."""
-    from lugre_jax.diagnose._select import _held_ms_bound
+    from lugre_jax.diagnose._select import _ms_bound
 
     rng = np.random.default_rng(31)
     n, block, phi = 4000, 100, 0.5
@@ -641,7 +641,7 @@ def test_held_out_mean_square_bound_has_its_monte_carlo_spread_and_level(rest_sc
             e[k] = phi * e[k - 1] + np.sqrt(1 - phi ** 2) * w[k]
         r = scale * e
         ms.append(np.mean(r ** 2))
-        bound.append(_held_ms_bound(r, val, blocks))
+        bound.append(_ms_bound(r, val, blocks))
     ms, bound = np.array(ms), np.array(bound)
     spread = np.median((bound - ms) / 2.0) / np.std(ms)
     if rest_scale == 1.5:

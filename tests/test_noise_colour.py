@@ -191,7 +191,7 @@ def test_torque_noise_is_capped_by_the_held_out_residual():
     """Strong colour at a low rate (AR(1) 0.85 at 170 Hz, a 34-s sine sweep under a velocity PI: the
     independent generator): the noise profile's plateau lies where the motion's differences are large
     too, and it reads the noise 11 % high. A complete model cannot beat the floor, so the floor's
-    torque noise is at most the baseline's held-out mean square's upper bound (diagnose._select._floor);
+    torque noise is at most the upper bound of the baseline's mean square (diagnose._select._floor);
     it is then within 10 % of the true std, the profile's own estimate left in the conditioning."""
     from lugre_jax.diagnose import DiagnoseConfig
     from lugre_jax.diagnose import _model as M
@@ -212,6 +212,6 @@ def test_torque_noise_is_capped_by_the_held_out_residual():
     floor = S._floor(prep, split, cfg, False, r0)
     true = g.torque_noise_std
     assert prep.cond.torque_noise / true > 1.1, prep.cond.torque_noise / true  # the profile alone
-    assert floor.torque_nm ** 2 <= S._held_ms_bound(r0, split.val, split.blocks) * (1 + 1e-12)
+    assert floor.torque_nm ** 2 <= S._ms_bound(r0, split.keep, split.blocks) * (1 + 1e-12)
     assert abs(floor.floor_nm / true - 1) < 0.1, floor.floor_nm / true
     assert floor.null.torque_sd == floor.torque_nm

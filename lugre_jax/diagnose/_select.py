@@ -58,16 +58,16 @@ def _val_rmse(r, val):
     return float(np.sqrt(np.mean(r[val] ** 2)))
 
 
-def _held_ms_bound(r, val, blocks) -> float:
-    """Upper bound (two standard errors) of the mean square of ``r`` over the held-out samples: the
+def _ms_bound(r, mask, blocks) -> float:
+    """Upper bound (two standard errors) of the mean square of ``r`` over the samples ``mask``: the
     standard error from the variance of r^2 and r^2's own long-run factor over the time blocks (a
     residual whose size changes along the motion, as it does at rest, has r^2 far from the Gaussian
     2*sigma^4 variance, and r^2 is less correlated than r). A size that changes from block to block
     counts as spread, so the bound is then conservative (the test beside it)."""
-    e2 = np.asarray(r, float)[val] ** 2
+    e2 = np.asarray(r, float)[mask] ** 2
     if e2.size < 2:
         return float(np.mean(e2)) if e2.size else 0.0
-    b = np.asarray(blocks)[val]
+    b = np.asarray(blocks)[mask]
     if np.var(e2) <= 0:
         kappa = 1.0
     elif np.unique(b).size < 2:
@@ -503,11 +503,12 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     kin_noise = 0.0
     if d.shape[0] > 1 and np.any(split.rows):
         kin_noise = float(np.sqrt(np.mean(centred_draws(d)[:, split.rows] ** 2)))
-    # a complete model cannot beat the floor: the baseline's held-out mean square (its upper bound)
+    # a complete model cannot beat the floor: the baseline's mean square over the kept samples (its
+    # upper bound; the fit's few parameters take a negligible share of the training samples' noise)
     # bounds the floor from above. Where it is below the torque noise itself, the noise's profile
     # read high (a strong colour at a low rate, whose plateau lies where the motion's differences
     # are large too), and the torque noise is that bound, in the floor and in the null draws
-    bound = _held_ms_bound(r0, split.val, split.blocks)
+    bound = _ms_bound(r0, split.keep, split.blocks)
     torque_nm = float(cond.torque_noise)
     if 0.0 < bound < torque_nm ** 2:
         torque_nm = float(np.sqrt(bound))
