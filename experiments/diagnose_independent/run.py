@@ -3006,9 +3006,9 @@ def calib41_settings(n: int = 24):
                             21400, n, loops=("pi", "pid"), nff=3, plant_k=1, fs_k=2, tn_rule=(2, 5))
 
 
-# calib42: for the torque noise capped by the baseline's held-out residual (the design of the commit
-# after these settings); strongly coloured noise at low rates, where the noise profile
-# reads high; three plants no earlier set used
+# calib42: for the floor's torque noise capped by the baseline's residual (run on bd1d8f2, two commits
+# after these settings); strongly coloured noise at low rates, where the noise profile reads high;
+# three plants no earlier set used
 ELFIN = T.Plant(J=0.07, Fc=0.6, Fs=0.95, vs=0.042, sigma2=0.85, sigma0=175.0, sigma1=1.0)
 RUGGED = T.Plant(J=0.17, Fc=1.05, Fs=1.45, vs=0.06, sigma2=1.35, sigma0=230.0, sigma1=1.7)
 FRAIL = T.Plant(J=0.095, Fc=0.75, Fs=1.2, vs=0.038, sigma2=1.0, sigma0=190.0, sigma1=1.15)
