@@ -187,7 +187,7 @@ def test_broader_colour_null_draws_match_it():
         assert abs(rho - np.corrcoef(n[:-lag], n[lag:])[0, 1]) < tol, (lag, rho)
 
 
-def test_torque_noise_is_capped_by_the_held_out_residual():
+def test_torque_noise_is_capped_by_the_residual():
     """Strong colour at a low rate (AR(1) 0.85 at 170 Hz, a 34-s sine sweep under a velocity PI: the
     independent generator): the noise profile's plateau lies where the motion's differences are large
     too, and it reads the noise 11 % high. A complete model cannot beat the floor, so the floor's
