@@ -45,7 +45,9 @@ class Baseline:
     fixed held-out phase alone (the model as fitted, without that phase).
     ``fit``: the solver's record (result, steps, starts, bristle_path). ``noise_floor_nm``: per-sample
     noise estimated from the data, ``torque_noise_nm`` and ``kinematic_noise_nm`` its two parts (the
-    torque channel's, and what the conditioned velocity and acceleration carry through the model);
+    torque channel's, and what the conditioned velocity and acceleration carry through the model; both
+    at most what the baseline's residual leaves, whose upper bound caps them, so the torque channel's
+    own profile estimate stays in ``conditioning.torque_noise``);
     ``floor_ratio`` = fixed-phase RMSE / floor, ``at_floor`` when it is at most ``AT_FLOOR`` (1.1),
     else ``shortcoming`` says why located structure may be the baseline's own misfit.
     ``conditioning``: how the kinematics were conditioned (``Conditioning.to_json()``);

@@ -233,7 +233,8 @@ class Split:
 @dataclasses.dataclass(frozen=True)
 class Floor:
     """Stage 3: the noise model. ``torque_nm`` and ``kinematic_nm``: per-sample noise of the torque
-    channel and what the kinematics' errors bring through the baseline; ``floor_nm``: both;
+    channel and what the kinematics' errors bring through the baseline, each capped by the upper bound
+    of the baseline's residual mean square (:func:`_floor`); ``floor_nm``: both;
     ``ratio``: the baseline's validation RMSE over it; ``known``: what a correct model's residual
     keeps in expectation (shapes :func:`~._locate.locate` does not claim); ``null``: the
     measurement chain the candidates' test simulates; ``scales``: data scales with ``noise`` set."""
