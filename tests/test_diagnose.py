@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import lugre_jax  # noqa: F401
-from lugre_jax.diagnose import diagnose, holm, make_recording
+from lugre_jax.diagnose import DiagnoseConfig, diagnose, holm, make_recording
 from lugre_jax.diagnose._synthetic import effect_instance
 from lugre_jax.io._recording import load_recording, write_recording
 
@@ -128,6 +128,12 @@ def test_diagnosis_to_json_is_the_report(tmp_path):
     assert js["missing_physics"][1]["params"]["regions"] == [cut(x) for x in rep.arrays.loc1["located"]][:10]
     assert js["missing_physics"][1]["params"]["attribution"] == js["attribution"]
     assert js["config"] == rep.config and js["config"]["alpha"] == rep.alpha
+    # the null's kinematic draws in the arrays are those the floor's kinematic part is the rms of
+    # (over the training samples: resolved, not held out)
+    ke, rows = np.asarray(rep.arrays.kinematic_errors), rep.arrays.keep & ~rep.arrays.val
+    assert ke.shape == (DiagnoseConfig().kinematic_draws, rep.arrays.r0.size)
+    assert rep.baseline.kinematic_noise_nm > 0
+    assert np.sqrt(np.mean(ke[:, rows] ** 2)) == pytest.approx(rep.baseline.kinematic_noise_nm, rel=1e-9)
     # a named finding lowers the held-out error and beat its simulated null family-wise
     assert accepted.validation_rmse_nm < rep.baseline.validation_rmse_nm
     assert accepted.p_family < rep.alpha / 3

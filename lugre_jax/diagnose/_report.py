@@ -184,7 +184,9 @@ class DiagnosisArrays:
     path chosen); ``baseline_model`` / ``improved_model``: ``JointModel``; ``r0`` / ``r1``: their
     residuals (0 at unresolved samples); ``val``: held-out mask; ``blocks``: time-block ids;
     ``loc0`` / ``loc1``: :func:`~lugre_jax.diagnose.locate`'s full output on ``r0`` / ``r1``
-    (periodograms, every test).
+    (periodograms, every test); ``kinematic_errors``: the null's kinematic draws through the
+    baseline (draws x samples, centred and scaled as the naming test's null uses them; none where
+    the floor leaves them no room); ``keep``: the resolved samples.
     """
 
     rec: Any
@@ -198,6 +200,8 @@ class DiagnosisArrays:
     loc0: dict
     loc1: dict
     attribution: Any = None  # the attribution with its arrays (regressors, fits, partial residuals)
+    kinematic_errors: Any = None
+    keep: Any = None
 
 
 @dataclasses.dataclass(frozen=True)
