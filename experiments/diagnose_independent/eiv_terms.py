@@ -36,7 +36,11 @@ def _row(job, way: str, rep) -> dict:
     return {"key": job["key"], "way": way, "verdict": j["verdict"], "floor_nm": floor,
             "fit": j["baseline"]["fit"].get("result"),
             "terms": [{"signal": t["signal"], "share_of_floor": t["held_out_share_nm"] / floor,
-                       "p_family": t["p_family"], "p_held_out": t["p_held_out"]} for t in j["attribution"]["terms"]]}
+                       "p_family": t["p_family"], "p_held_out": t["p_held_out"]} for t in j["attribution"]["terms"]],
+            # every group significant on the training blocks, whether or not the held-out test kept it
+            "significant": [{"signal": t["signal"], "p_family": t["p_family"]}
+                            for step in j["attribution"]["tests"] for t in step
+                            if t.get("p_family", 1.0) <= j["alpha"] / 3.0]}
 
 
 def main() -> None:
