@@ -3048,6 +3048,55 @@ def calib42_settings(n: int = 24):
                             21600, n, loops=("pi", "pid"), nff=1, plant_k=2, fs_k=3, tn_rule=(1, 4))
 
 
+# fresh39, outside16 and calib43: the design as of 2cbe4ce, frozen before their first run; fresh39's
+# rates and variations and outside16's and calib43's rates are drawn (numpy default_rng(39), (4316)
+# and (4317)), not chosen; three plants no earlier set used
+DAPPER = T.Plant(J=0.06, Fc=0.5, Fs=0.82, vs=0.035, sigma2=0.75, sigma0=150.0, sigma1=0.85)
+JAUNTY = T.Plant(J=0.11, Fc=0.9, Fs=1.25, vs=0.055, sigma2=1.1, sigma0=200.0, sigma1=1.3)
+LIMBER = T.Plant(J=0.15, Fc=1.15, Fs=1.6, vs=0.065, sigma2=1.45, sigma0=245.0, sigma1=1.9)
+_add_plants({"dapper": (DAPPER, T.VelocityPIController(kp=3.0, ki=18.0)),
+             "jaunty": (JAUNTY, T.VelocityPIController(kp=5.5, ki=33.0)),
+             "limber": (LIMBER, T.VelocityPIController(kp=7.5, ki=45.0))},
+            {"dapper": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
+             "jaunty": T.PositionPIDController.tuned(0.11, 3.2, tf=0.003),
+             "limber": T.PositionPIDController.tuned(0.15, 3.0, tf=0.004)})
+
+_F39_FS = {"a": 550.0, "b": 580.0, "c": 295.0, "d": 415.0, "e": 605.0, "f": 755.0, "g": 305.0, "h": 360.0,
+           "i": 860.0}
+_F39_VARIED = _varied(1.0441, 1.2705, 1.0009)
+
+
+def fresh39_settings():
+    """A fresh set (issues #30 and #31), fixed and committed before its first run: all 24 of fresh3's
+    effect rows at 295-860 Hz (by recipe, drawn), seeds 21800 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh39", _F39_FS, _F39_VARIED, 21800)
+
+
+_OUT16_PLANTS = {"gritty": "dapper", "sprightly": "jaunty", "stolid": "limber"}
+_OUT16_FS = dict(zip("abcdefgh", (260.0, 775.0, 580.0, 555.0, 480.0, 210.0, 430.0, 340.0)))
+_OUT16_RECIPES = {k: (_OUT16_PLANTS[r[0]],) + r[1:4] + (_OUT16_FS[k],) + r[5:] for k, r in _OUT14_RECIPES.items()}
+
+
+def outside16_settings():
+    """A sixteenth outside set (issue #31), fixed and committed before its first run: outside14's rows
+    and excitations on DAPPER, JAUNTY and LIMBER, at drawn rates (210-775 Hz) and seeds 21900 + k."""
+    return _outside_set("outside16_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT16_RECIPES, 21900)
+
+
+def calib43_settings(n: int = 24):
+    """A forty-third effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib41's) x both loops (the position PID without feedforward in every fourth
+    row), both sensors in rows 0-11 and the velocity sensor alone in rows 12-23, on DAPPER, JAUNTY
+    and LIMBER, at drawn rates 170-880 Hz, torque noise 0.03-0.12 N*m, white in half the rows and
+    AR(1) of coefficient 0.5 or 0.75 in the other half, velocity noise 0.003 or 0.008 deg/s,
+    quantisation 0.0005 or 0.002 deg; seeds 21700 + i."""
+    return _effect_free_set("calib43", CALIB41_EXCITATIONS, ["dapper", "jaunty", "limber"],
+                            [(True, True), (False, True), (True, False)], [170.0, 695.0, 740.0, 875.0, 880.0],
+                            [0.03, 0.12, 0.07], [0.0, 0.5, 0.0, 0.75], [0.003, 0.008], [0.0005, 0.002],
+                            21700, n, loops=("pid", "pi"), nff=2, plant_k=1, fs_k=2, tn_rule=(2, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3086,7 +3135,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib38": calib38_settings, "outside13": outside13_settings, "fresh36": fresh36_settings,
             "calib39": calib39_settings, "fresh37": fresh37_settings, "outside14": outside14_settings,
             "calib40": calib40_settings, "fresh38": fresh38_settings, "outside15": outside15_settings,
-            "calib41": calib41_settings, "calib42": calib42_settings,
+            "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
+            "outside16": outside16_settings, "calib43": calib43_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3270,7 +3320,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
-               "fresh38", "outside15", "calib41", "calib42")
+               "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43")
 
 
 def main():
