@@ -10,8 +10,9 @@ from its Savitzky-Golay smoothing at the chosen window has a mean square above t
 removed motion, not noise (a stick-slip faster than the window, and also the velocity's kink at
 every reversal, which the diagnosis's blur column holds); the table gives the share of the
 resolved samples so flagged (widened by the window) and the share of the actual error they hold.
-The diagnosis does not leave such samples out: on its own synthetic recordings the check flags a
-quarter of the samples, most at reversals, where a backlash's evidence lies.
+The diagnosis does not leave such samples out: on its own synthetic recording (make_recording)
+the check flags a third of the samples, most at low speed around reversals, where a backlash's
+evidence lies.
 
 The baseline is the generator's plant taken as given, with no candidates and 60 null draws (the
 fewest the default alpha allows): only the conditioning, the floor and the null matter here.
