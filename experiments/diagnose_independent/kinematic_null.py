@@ -7,8 +7,8 @@ Also, where that error sits (its share in the slowest fifth of the resolved samp
 check of the velocity column against its own smoothing would find: where the column's departure
 from its Savitzky-Golay smoothing at the chosen window has a mean square above the sensor noise's
 (chi-square over one window, Bonferroni over the recording's windows at ``alpha``), the smoothing
-removed motion, not noise (a stick-slip faster than the window, and also the velocity's kink at
-every reversal, which the diagnosis's blur column holds); the table gives the share of the
+removed motion, not noise (a loop's transient or a stick at a reversal faster than the window,
+and the velocity's kink at every reversal, which the diagnosis's blur column holds); the table gives the share of the
 resolved samples so flagged (widened by the window) and the share of the actual error they hold.
 The diagnosis does not leave such samples out: on its own synthetic recording (make_recording)
 the check flags a third of the samples, most at low speed around reversals, where a backlash's
