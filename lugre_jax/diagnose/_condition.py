@@ -527,9 +527,6 @@ ORDERS = (3, 5)
 # sees as a line; an order-5 window is considered only where the acceleration noise it brings
 # (J0 times its noise) is below this share of the torque noise
 ORDER5_NOISE_SHARE = 0.5
-# torque noise below this share of the torque's range is rounding (a simulation written to CSV):
-# such a recording is used as loaded, since no smoothing is needed and every bias would count
-NOISE_FREE_SHARE = 1e-7
 
 
 def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=None, error_only: bool = False,
@@ -633,7 +630,11 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
         # direction of motion is not known from the samples, so neither is the friction
         bad |= maximum_filter1d((np.abs(v) < q / (W * dt)).astype(np.int8), W) > 0
     # the recording's own derivatives: kept as loaded where the lightest velocity window wins
-    noise_free = st <= NOISE_FREE_SHARE * max(float(np.ptp(rec.torque)), 1e-300)
+    # a noise-free recording (a simulation's output, DiagnoseConfig.noise_free_share) is used as
+    # loaded: no smoothing is needed, and every bias would count
+    from ._model import data_scales
+
+    noise_free = st <= cfg.noise_free_share * data_scales(rec)["T"]
     use_recording = vel_meas and q == 0 and (noise_free or (source == "velocity" and W == windows[0]
                                                              and order == 3))
     if vel_meas and q == 0 and not use_recording and rec.meta.get("acceleration_supplied", False):

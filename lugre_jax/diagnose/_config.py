@@ -120,8 +120,9 @@ class DiagnoseConfig:
       a load far more); below it the angle dependence is not shown.
     - ``noise_free_share`` (1e-6): a torque noise below this share of the torque's scale is no
       measurement's (a 20-bit converter's step is 1e-6 of its range): the recording is taken as
-      noise-free (a simulation's output), and the report says that its tests, calibrated against
-      measurement noise, then find the derivatives' numerical error significant.
+      noise-free (a simulation's output), its derivatives are used as loaded (no smoothing is
+      needed), and the report says that its tests, calibrated against measurement noise, then find
+      the derivatives' numerical error significant.
     - ``rechoose_share`` (0.05): the conditioning window is chosen again for the fitted inertia
       when that lowers the kinematic torque error by more than this share of the torque noise
       variance (the floor would change by ~2.5 %).
