@@ -2965,9 +2965,15 @@ _add_plants({"plucky": (PLUCKY, T.VelocityPIController(kp=2.2, ki=13.0)),
              "fleet": T.PositionPIDController.tuned(0.13, 3.1, tf=0.003),
              "dour": T.PositionPIDController.tuned(0.2, 2.9, tf=0.004)})
 
-_OUT15_PLANTS = {"gritty": "plucky", "sprightly": "fleet", "stolid": "dour"}
-_OUT15_FS = dict(zip("abcdefgh", (755.0, 390.0, 540.0, 490.0, 575.0, 770.0, 210.0, 520.0)))
-_OUT15_RECIPES = {k: (_OUT15_PLANTS[r[0]],) + r[1:4] + (_OUT15_FS[k],) + r[5:] for k, r in _OUT14_RECIPES.items()}
+def _outside14_on(plants: dict, fs: tuple) -> dict:
+    """outside14's recipes with each of its plants replaced (``plants``: its plant -> another) and the
+    rows' rates ``fs`` (rows a-h)."""
+    rates = dict(zip("abcdefgh", fs))
+    return {k: (plants[r[0]],) + r[1:4] + (rates[k],) + r[5:] for k, r in _OUT14_RECIPES.items()}
+
+
+_OUT15_RECIPES = _outside14_on({"gritty": "plucky", "sprightly": "fleet", "stolid": "dour"},
+                               (755.0, 390.0, 540.0, 490.0, 575.0, 770.0, 210.0, 520.0))
 
 
 def outside15_settings():
@@ -3073,9 +3079,8 @@ def fresh39_settings():
     return _refreshed("fresh39", _F39_FS, _F39_VARIED, 21800)
 
 
-_OUT16_PLANTS = {"gritty": "dapper", "sprightly": "jaunty", "stolid": "limber"}
-_OUT16_FS = dict(zip("abcdefgh", (260.0, 775.0, 580.0, 555.0, 480.0, 210.0, 430.0, 340.0)))
-_OUT16_RECIPES = {k: (_OUT16_PLANTS[r[0]],) + r[1:4] + (_OUT16_FS[k],) + r[5:] for k, r in _OUT14_RECIPES.items()}
+_OUT16_RECIPES = _outside14_on({"gritty": "dapper", "sprightly": "jaunty", "stolid": "limber"},
+                               (260.0, 775.0, 580.0, 555.0, 480.0, 210.0, 430.0, 340.0))
 
 
 def outside16_settings():
