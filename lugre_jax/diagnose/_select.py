@@ -237,7 +237,9 @@ class Floor:
     of the baseline's residual mean square (:func:`_floor`); ``floor_nm``: both;
     ``ratio``: the baseline's validation RMSE over it; ``known``: what a correct model's residual
     keeps in expectation (shapes :func:`~._locate.locate` does not claim); ``null``: the
-    measurement chain the candidates' test simulates; ``scales``: data scales with ``noise`` set."""
+    measurement chain the candidates' test simulates; ``scales``: data scales with ``noise`` set;
+    ``kinematic_errors``: the null's kinematic draws through the baseline, centred and scaled as
+    ``null.kinematic_errors`` gives them (``kinematic_nm`` is their rms over the training samples)."""
 
     torque_nm: float
     kinematic_nm: float
@@ -247,6 +249,7 @@ class Floor:
     known: dict
     null: object
     scales: dict
+    kinematic_errors: np.ndarray = dataclasses.field(repr=False, compare=False, default=None)
 
 
 def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tuple[Prepared, "Split"]:
@@ -502,8 +505,9 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     # the floor is the null model's per-sample residual: the torque noise and the scatter the
     # kinematics' errors bring through the fitted model (the same draws the candidates' test uses)
     kin_noise = 0.0
+    draws = centred_draws(d)
     if d.shape[0] > 1 and np.any(split.rows):
-        kin_noise = float(np.sqrt(np.mean(centred_draws(d)[:, split.rows] ** 2)))
+        kin_noise = float(np.sqrt(np.mean(draws[:, split.rows] ** 2)))
     # a complete model cannot beat the floor: the baseline's mean square over the kept samples (its
     # upper bound; the fit's few parameters take a negligible share of the training samples' noise)
     # bounds the floor from above. Where it is below the torque noise itself, the noise's profile
@@ -541,7 +545,8 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
     known["nuisance"] = np.column_stack(nuisance)
     ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
-    return Floor(torque_nm, kin_noise, floor, ratio, lam, known, null, scales)
+    return Floor(torque_nm, kin_noise, floor, ratio, lam, known, null, scales,
+                 kinematic_errors=null.kinematic_scale * draws)
 
 
 def _quantised_derivatives(cond) -> bool:
@@ -901,7 +906,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
         fixed_phase_rmse_nm=_val_rmse(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur,
-                             attribution=attribution, kinematic_errors=floor.null.kinematic_errors(base, kin),
+                             attribution=attribution, kinematic_errors=floor.kinematic_errors,
                              keep=split.keep)
     return Diagnosis(recording=recording, baseline=baseline, alpha=cfg.alpha, kappa_long_run_variance=loc0["kappa"],
                      verdict=verdict, mismatch=located, n_tests=loc0["n_tests"], missing_physics=tuple(missing),
