@@ -26,14 +26,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import jax.numpy as jnp
 import numpy as np
 from scipy.ndimage import maximum_filter1d, uniform_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 from scipy.stats import chi2
 
 import run as R
-from lugre_jax.diagnose import Kinematics, diagnose, predict
+from lugre_jax.diagnose import diagnose, predict
 
 
 def _rms(x) -> float:
@@ -58,9 +57,7 @@ def row(job, cache: Path) -> dict:
     rep = diagnose(rec, params=R.true_params(job) | {"offset": 0.0}, candidates=(), null_draws=60, progress=False)
     arr, cond = rep.arrays, rep.baseline.conditioning
     kin, model, keep = arr.kin, arr.baseline_model, np.asarray(arr.keep, bool)
-    t, th = np.asarray(kin.t, float), np.asarray(g.true["theta"], float)
-    true = Kinematics(jnp.asarray(t), jnp.asarray(th), jnp.asarray(g.true["omega"]), jnp.asarray(g.true["acceleration"]),
-                      jnp.asarray(np.diff(t)), jnp.asarray(np.diff(th)), kin.z0_sign)
+    true = R.true_kinematics(g, kin.z0_sign)
     e = np.asarray(predict(model, true), float) - np.asarray(predict(model, kin), float)
     draws = np.asarray(arr.kinematic_errors, float)
     v = np.abs(np.asarray(kin.v, float))

@@ -21,12 +21,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import jax.numpy as jnp
 import numpy as np
 from scipy.stats import chi2, ncx2
 
 import run as R
-from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, Kinematics, baseline_from_params, predict
+from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, baseline_from_params, predict
 
 PARAMS = ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1")  # the baseline's directions (delta is fixed)
 
@@ -45,10 +44,7 @@ def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> 
     """``lam`` and the effect's rms before and after the baseline's directions (over the noise std).
     ``rows``: the training samples (a mask; the diagnosis's kept training samples, as ``run.py``
     passes them); None counts ``train_share`` of every sample."""
-    t, th = np.asarray(g.time, float), np.asarray(g.true["theta"], float)
-    kin = Kinematics(jnp.asarray(t), jnp.asarray(th), jnp.asarray(g.true["omega"]),
-                     jnp.asarray(g.true["acceleration"]), jnp.asarray(np.diff(t)), jnp.asarray(np.diff(th)),
-                     jnp.asarray(0.0))
+    kin = R.true_kinematics(g)
 
     def pred(p):
         return np.asarray(predict(baseline_from_params(p | {"offset": 0.0}), kin), float)

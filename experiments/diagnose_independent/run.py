@@ -253,6 +253,20 @@ def controller_of(job):
     return plant, pid
 
 
+def true_kinematics(g, z0_sign=0.0):
+    """The generator's exact motion of the generated recording ``g`` as the diagnosis's
+    ``Kinematics`` (the bristles along the true path; ``z0_sign`` their initial deflection's
+    direction)."""
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose import Kinematics
+
+    t, th = np.asarray(g.time, float), np.asarray(g.true["theta"], float)
+    return Kinematics(jnp.asarray(t), jnp.asarray(th), jnp.asarray(g.true["omega"]),
+                      jnp.asarray(g.true["acceleration"]), jnp.asarray(np.diff(t)), jnp.asarray(np.diff(th)),
+                      jnp.asarray(z0_sign))
+
+
 def true_params(job) -> dict:
     """The generator plant's parameters of ``job`` as a ``params`` dict for ``diagnose`` (no offset)."""
     plant, _ = controller_of(job)
