@@ -143,8 +143,18 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     each (start, kinematics) pair is run ``screen_steps`` LM steps, the best two by training SSE are
     run to convergence. ``cfg``: the settings of the starts (default :class:`DiagnoseConfig`).
     """
+    w = np.asarray(weights)
+    tau = np.asarray(rec.torque)
+
+    def sse(m, kin):
+        e = tau - M.predict(m, kin)
+        return float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf
+
     if params is not None:
-        return M.baseline_from_params(params), {"result": "given", "steps": 0, "starts": 0}, 0
+        # given parameters: the bristle path is still chosen by the training SSE, as in a fit
+        given = M.baseline_from_params(params)
+        k = int(np.argmin([sse(given, kin) for kin in kins])) if len(kins) > 1 else 0
+        return given, {"result": "given", "steps": 0, "starts": 0}, k
     m0 = rough if rough is not None else M.initial_baseline(rec, friction, fit_offset)
     starts, far = M.initial_baselines(rec, friction, fit_offset, noise, rough=m0, cfg=cfg)
     if isinstance(m0.friction, LuGre):
@@ -153,13 +163,6 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
         far = []
     space = M.FitSpace(M.baseline_specs(starts[0], scales, fit_offset))
     far = [M.clip_into(space, s0) for s0 in far] if far_starts else []
-    w = np.asarray(weights)
-    tau = np.asarray(rec.torque)
-
-    def sse(m, kin):
-        e = tau - M.predict(m, kin)
-        return float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf
-
     screened = []
     many = len(starts) * len(kins) > 1
     # the further starts by Coulomb level, the nearest of each level's grid taken: a static curve that
