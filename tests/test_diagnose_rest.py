@@ -120,3 +120,36 @@ def test_a_recording_with_too_few_resolved_samples_is_refused_with_advice_that_f
     msg = str(e.value)
     assert f"only 50 of {rec.n} samples" in msg and advice in msg
     assert ("velocity sensor" in msg) == (not velocity_measured)
+
+
+def test_a_window_that_fits_significantly_better_is_found():
+    """The window check behind the conditioning (``_residual_window``): given kinematics smoothed
+    over a window far too short for a noisy velocity sensor on a heavy joint, the generator's model's
+    training residual is significantly lower on a longer window, and that window's model error
+    against the generator's noise-free torque is lower too."""
+    from lugre_jax.diagnose._condition import condition
+    from lugre_jax.diagnose._select import _residual_window, _split
+
+    plant = T.Plant(J=0.15, Fc=1.15, Fs=1.6, vs=0.065, sigma2=1.45, sigma0=245.0, sigma1=1.9)
+    sens = T.Sensors(fs=500.0, torque_noise=0.03, velocity_noise=0.008, quantisation=0.0,
+                     velocity_column=True, position_column=False)
+    exc = T.Staircase(speeds=(0.04, 0.18, 0.75, 2.2, 4.1), dwell=2.1, transition=0.0, repeats=1, seed=5)
+    g = T.generate(exc, [], plant, T.VelocityPIController(kp=7.5, ki=45.0), sens, seed=407)
+    rec = g.to_recording()
+    p = {f: getattr(plant, f) for f in ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "delta")}
+    base = M.baseline_from_params(p | {"offset": 0.0, "friction_model": "LuGre"})
+    cfg = DiagnoseConfig()
+
+    def check(window):
+        crec, cond, unresolved = condition(rec, plant.J, plant.sigma2, choices=[("velocity", window, 3)], cfg=cfg)
+        split = _split(crec, cond, unresolved, cfg)
+        kin = M.kinematics_of(crec)
+        choice, gain = _residual_window(rec, crec, cond, base, kin, "complementary", split, cfg.alpha)
+        keep = split.keep > 0
+        err = np.sqrt(np.mean((g.true["torque"] - np.asarray(M.predict(base, kin)))[keep] ** 2))
+        return choice, gain, err
+
+    choice, gain, err_short = check(9)
+    assert choice is not None and choice[0] == "velocity" and choice[1] > 9 and gain > 0, (choice, gain)
+    _, _, err_found = check(choice[1]) if choice[2] == 3 else (None, 0.0, None)
+    assert err_found is not None and err_found < 0.5 * err_short, (err_found, err_short, choice)

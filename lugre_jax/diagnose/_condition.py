@@ -565,13 +565,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     cfg = DiagnoseConfig() if cfg is None else cfg
     noise = torque_noise_model(rec.torque, colour_chi2=cfg.colour_chi2, outlier_std=cfg.outlier_std)
     st = noise.std
-    sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
-    q = quantisation_step(rec.position) if pos_meas else 0.0
-    sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
-    wmax = max(5, int(max_window_s / dt) | 1)
-    windows = [w for w in range(5, wmax + 1, 2) if w <= max(5, rec.n // 4)] or [5]
-    sources = ([("velocity", sv, 0, rec.velocity)] if vel_meas else []) + \
-              ([("position", sp, 1, rec.position)] if pos_meas else [])
+    sv, q, sp, sources = _sources(rec)
+    windows = _windows(rec, dt, max_window_s)
     # sharp transients the sampling cannot resolve leave the fit whatever the window (below), so
     # the smoothing bias that chooses the window is measured on the other samples only
     from scipy.ndimage import maximum_filter1d
@@ -656,6 +651,42 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
                         velocity_noise_after=float(sig_v), unresolved_fraction=float(bad.mean()), bias_nm=bias_nm,
                         **common)
     return out, info, bad
+
+
+def _sources(rec) -> tuple:
+    """The measured kinematic sources of ``rec``: (velocity noise, quantisation step, position noise,
+    ``[(source, its noise, derivative order of the velocity, signal)]``)."""
+    vel_meas = bool(rec.meta.get("velocity_measured", True))
+    pos_meas = bool(rec.meta.get("position_measured", True))
+    sv = hf_noise_std(rec.velocity) if vel_meas else 0.0
+    q = quantisation_step(rec.position) if pos_meas else 0.0
+    sp = max(hf_noise_std(rec.position), q / np.sqrt(12.0)) if pos_meas else 0.0
+    sources = ([("velocity", sv, 0, rec.velocity)] if vel_meas else []) + \
+              ([("position", sp, 1, rec.position)] if pos_meas else [])
+    return sv, q, float(sp), sources
+
+
+def _windows(rec, dt: float, max_window_s: float) -> list:
+    wmax = max(5, int(max_window_s / dt) | 1)
+    return [w for w in range(5, wmax + 1, 2) if w <= max(5, rec.n // 4)] or [5]
+
+
+def window_options(rec, cond: "Conditioning", J0: float, max_window_s: float = 0.3) -> list:
+    """The (source, W, order) choices :func:`condition` weighs other than ``cond``'s own (order 5
+    where its acceleration noise through the inertia ``J0`` is below ``ORDER5_NOISE_SHARE`` of the
+    torque noise)."""
+    dt = float(np.median(np.diff(np.asarray(rec.time, float))))
+    out = []
+    for source, sig, dv, _ in _sources(rec)[3]:
+        for order in ORDERS:
+            for W in _windows(rec, dt, max_window_s):
+                if W <= order + 1 or 2 * W - 1 > rec.n // 2 or (source, W, order) == (cond.source, cond.window,
+                                                                                         cond.order):
+                    continue
+                h = savgol_coeffs(W, order, deriv=dv + 1, delta=dt)
+                if order == 3 or J0 * sig * float(np.linalg.norm(h)) <= ORDER5_NOISE_SHARE * cond.torque_noise:
+                    out.append((source, W, order))
+    return out
 
 
 def _inverse_residual_ms(v, a, torque, keep) -> float:

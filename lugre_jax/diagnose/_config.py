@@ -125,7 +125,10 @@ class DiagnoseConfig:
       the derivatives' numerical error significant.
     - ``rechoose_share`` (0.05): the conditioning window is chosen again for the fitted inertia
       when that lowers the kinematic torque error by more than this share of the torque noise
-      variance (the floor would change by ~2.5 %).
+      variance (the floor would change by ~2.5 %). With the inertia unchanged, another window is
+      taken where the fitted baseline's training residual is significantly lower on it (one-sided
+      at ``alpha``, Bonferroni over the windows): the residual measures the kinematics' error the
+      window rule only estimates.
     """
 
     alpha: float = 0.05

@@ -257,7 +257,9 @@ class Floor:
 
 def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tuple[Prepared, "Split"]:
     """Condition the kinematics for a first inertia, fit the baseline, and condition again for the
-    fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``)."""
+    fitted inertia when that changes the window enough to matter (``cfg.rechoose_share``), or, with
+    the inertia unchanged, on the window where the baseline's training residual is significantly
+    lower (:func:`_residual_window`)."""
     from ._condition import (blended, condition, conditioned_kinematics, forget_after, model_bias_unresolved,
                              smoothing_blend)
 
@@ -311,22 +313,29 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
-        if second or params is not None:
+        if second:
             break
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
-        if cond.source == "recording" or 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
+        if cond.source == "recording":  # no window error to compare for data used as loaded
             break
-        crec2, cond2, unresolved2 = conditioned(J_fit, s2_fit)
-        if (cond2.source, cond2.window, cond2.order) == (cond.source, cond.window, cond.order) \
-                or cond2.source == "recording":  # no window error to compare for data used as loaded
-            break
-        mse_old = conditioned(J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)], error_only=True)
-        mse_new = conditioned(J_fit, s2_fit, choices=[(cond2.source, cond2.window, cond2.order)], error_only=True)
-        if mse_old - mse_new <= cfg.rechoose_share * cond.torque_noise ** 2:
+        # another window is taken where it fits significantly better (_residual_window)
+        needed = 0.0
+        if not 0.8 <= J_fit / max(float(rough.J), 1e-300) <= 1.25:
+            # the window rule's estimate for the fitted inertia, when it changes the floor noticeably
+            needed = cfg.rechoose_share * cond.torque_noise ** 2
+            cond2 = conditioned(J_fit, s2_fit)[1]
+            choice = None if cond2.source == "recording" else (cond2.source, cond2.window, cond2.order)
+            excess = 0.0
+            if choice is not None and choice != (cond.source, cond.window, cond.order):
+                excess = conditioned(J_fit, s2_fit, choices=[(cond.source, cond.window, cond.order)],
+                                     error_only=True) - conditioned(J_fit, s2_fit, choices=[choice], error_only=True)
+        else:
+            choice, excess = _residual_window(rec, crec, cond, base, kin, path, split, cfg.alpha)
+        if choice is None or excess <= needed:
             break
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
-                    "excess_error_nm": float(np.sqrt(mse_old - mse_new))}
-        crec, cond, unresolved = crec2, cond2, unresolved2
+                    "excess_error_nm": float(np.sqrt(excess))}
+        crec, cond, unresolved = conditioned(J_fit, s2_fit, choices=[choice])
         rest = _dwells(crec, cond, cfg)
         unresolved = unresolved | rest
     if rechosen is not None:
@@ -370,6 +379,49 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None or refit else 0
     lines = motion_lines(np.asarray(rec.time, float), np.asarray(kin.v, float), cfg.alpha_attribute)
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest, lines), split
+
+
+def _residual_window(rec, crec, cond, base, kin, path: str, split, alpha: float) -> tuple:
+    """The window (:func:`~._condition.window_options`) on whose kinematics the fitted baseline's
+    training mean square residual is significantly lower than on ``kin``, and by how much ((None, 0)
+    without one). The residual holds what the kinematics' smoothing bias and noise bring together,
+    with the torque noise common to every window; the window rule only estimates them (its bias from
+    the change from W to 2W-1, which misses motion both windows remove and counts transients the fit
+    leaves out). The test is one-sided on the paired difference, its standard error from the
+    training time blocks' sums, at ``alpha`` (Bonferroni over the windows compared); the baseline was
+    fitted on ``kin``, so it leans towards keeping the window."""
+    from scipy.stats import norm
+
+    from ._condition import conditioned_kinematics, velocity_path, window_options
+
+    tau, w = np.asarray(crec.torque), np.asarray(split.w)
+    _, blk = np.unique(split.blocks, return_inverse=True)
+    wb = np.bincount(blk, weights=w)
+
+    def sq(k):
+        e = tau - np.asarray(M.predict(base, k))
+        return e * e if np.all(np.isfinite(e[w > 0])) else None
+
+    own = sq(kin)
+    options = window_options(rec, cond, float(base.J))
+    if own is None or not options or np.count_nonzero(wb) < 5:
+        return None, 0.0
+    z = float(norm.isf(alpha / len(options)))
+    best, gain = None, 0.0
+    for choice in options:
+        v, a, th = conditioned_kinematics(rec.time, rec.position, rec.velocity, *choice)
+        theta = {"complementary": th, "measured": np.asarray(rec.position),
+                 "velocity": velocity_path(rec.time, th, rec.velocity)}[path]
+        e2 = sq(M.kinematics_of(eqx.tree_at(lambda r: (r.position, r.velocity, r.acceleration), crec, (theta, v, a))))
+        if e2 is None:
+            continue
+        db = np.bincount(blk, weights=w * (own - e2))
+        mean = float(db.sum() / wb.sum())
+        nb = np.count_nonzero(wb)
+        se = float(np.sqrt(np.sum((db - mean * wb) ** 2) * nb / (nb - 1)) / wb.sum())
+        if mean > z * se and mean > gain:
+            best, gain = choice, mean
+    return best, gain
 
 
 def _dwells(crec, cond, cfg) -> np.ndarray:
