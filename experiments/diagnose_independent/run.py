@@ -3116,6 +3116,54 @@ def calib43_settings(n: int = 24):
                             21700, n, loops=("pid", "pi"), nff=2, plant_k=1, fs_k=2, tn_rule=(2, 4))
 
 
+# fresh40, outside17 and calib44: the design of the residual window check (the window chosen again by
+# the fitted baseline's training residual), frozen before their first run; rates and fresh40's
+# variations are drawn (numpy default_rng(40), (4417) and (4418)), not chosen; three plants no
+# earlier set used
+SLACK = T.Plant(J=0.08, Fc=0.65, Fs=1.0, vs=0.045, sigma2=0.9, sigma0=170.0, sigma1=1.0)
+RIGID = T.Plant(J=0.13, Fc=1.0, Fs=1.45, vs=0.06, sigma2=1.25, sigma0=230.0, sigma1=1.6)
+MELLOW = T.Plant(J=0.05, Fc=0.42, Fs=0.7, vs=0.03, sigma2=0.6, sigma0=130.0, sigma1=0.7)
+_add_plants({"slack": (SLACK, T.VelocityPIController(kp=4.0, ki=24.0)),
+             "rigid": (RIGID, T.VelocityPIController(kp=6.5, ki=39.0)),
+             "mellow": (MELLOW, T.VelocityPIController(kp=2.5, ki=15.0))},
+            {"slack": T.PositionPIDController.tuned(0.08, 3.4, tf=0.002),
+             "rigid": T.PositionPIDController.tuned(0.13, 3.1, tf=0.003),
+             "mellow": T.PositionPIDController.tuned(0.05, 3.6, tf=0.002)})
+
+_F40_FS = {"a": 725.0, "b": 700.0, "c": 860.0, "d": 290.0, "e": 700.0, "f": 850.0, "g": 560.0, "h": 470.0,
+           "i": 640.0}
+_F40_VARIED = _varied(1.1531, 0.9005, -1.9569)
+
+
+def fresh40_settings():
+    """A fresh set (issues #30 and #31), fixed and committed before its first run: all 24 of fresh3's
+    effect rows at 290-860 Hz (by recipe, drawn), seeds 22000 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh40", _F40_FS, _F40_VARIED, 22000)
+
+
+_OUT17_RECIPES = _outside14_on({"gritty": "slack", "sprightly": "rigid", "stolid": "mellow"},
+                               (445.0, 235.0, 655.0, 515.0, 475.0, 345.0, 705.0, 750.0))
+
+
+def outside17_settings():
+    """A seventeenth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on SLACK, RIGID and MELLOW, at drawn rates (235-750 Hz) and seeds 22200 + k."""
+    return _outside_set("outside17_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT17_RECIPES, 22200)
+
+
+def calib44_settings(n: int = 24):
+    """A forty-fourth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib42's) x both loops (the position PID without feedforward in every fourth
+    row), the position sensor alone in rows 0-11 and the velocity sensor alone in rows 12-23, on
+    SLACK, RIGID and MELLOW, at drawn rates 245-740 Hz, torque noise 0.035-0.09 N*m, white in a
+    quarter of the rows and AR(1) of coefficient 0.3, 0.6 or 0.8 in the rest, velocity noise 0.0015
+    or 0.004 deg/s, quantisation 0.0003 or 0.001 deg; seeds 22100 + i."""
+    return _effect_free_set("calib44", CALIB42_EXCITATIONS, ["slack", "rigid", "mellow"],
+                            [(True, False), (False, True), (True, True)], [245.0, 305.0, 685.0, 715.0, 740.0],
+                            [0.05, 0.09, 0.035], [0.0, 0.6, 0.3, 0.8], [0.004, 0.0015], [0.001, 0.0003],
+                            22100, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=3, tn_rule=(1, 3))
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3155,7 +3203,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib39": calib39_settings, "fresh37": fresh37_settings, "outside14": outside14_settings,
             "calib40": calib40_settings, "fresh38": fresh38_settings, "outside15": outside15_settings,
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
-            "outside16": outside16_settings, "calib43": calib43_settings,
+            "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
+            "outside17": outside17_settings, "calib44": calib44_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3339,7 +3388,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib31cells", "calib30cells", "calib32pid", "calib33", "fresh31",
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
-               "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43")
+               "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
+               "fresh40", "outside17", "calib44")
 
 
 def main():
