@@ -415,7 +415,8 @@ def _residual_window(rec, crec, cond, base, kin, path: str, split, alpha: float)
         e2 = sq(M.kinematics_of(eqx.tree_at(lambda r: (r.position, r.velocity, r.acceleration), crec, (theta, v, a))))
         if e2 is None:
             continue
-        db = np.bincount(blk, weights=w * (own - e2))
+        # off the training samples a non-finite residual times its zero weight would make every sum NaN
+        db = np.bincount(blk, weights=np.where(w > 0, w * (own - e2), 0.0))
         mean = float(db.sum() / wb.sum())
         nb = np.count_nonzero(wb)
         se = float(np.sqrt(np.sum((db - mean * wb) ** 2) * nb / (nb - 1)) / wb.sum())
