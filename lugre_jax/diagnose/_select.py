@@ -392,7 +392,7 @@ def _residual_window(rec, crec, cond, base, kin, path: str, split, alpha: float)
     fitted on ``kin``, so it leans towards keeping the window."""
     from scipy.stats import norm
 
-    from ._condition import conditioned_kinematics, velocity_path, window_options
+    from ._condition import conditioned_kinematics, window_options
 
     tau, w = np.asarray(crec.torque), np.asarray(split.w)
     _, blk = np.unique(split.blocks, return_inverse=True)
@@ -404,21 +404,20 @@ def _residual_window(rec, crec, cond, base, kin, path: str, split, alpha: float)
 
     own = sq(kin)
     options = window_options(rec, cond, float(base.J))
-    if own is None or not options or np.count_nonzero(wb) < 5:
+    nb = np.count_nonzero(wb)
+    if own is None or not options or nb < 5:
         return None, 0.0
     z = float(norm.isf(alpha / len(options)))
     best, gain = None, 0.0
     for choice in options:
         v, a, th = conditioned_kinematics(rec.time, rec.position, rec.velocity, *choice)
-        theta = {"complementary": th, "measured": np.asarray(rec.position),
-                 "velocity": velocity_path(rec.time, th, rec.velocity)}[path]
+        theta = _path_position(rec, th, path)
         e2 = sq(M.kinematics_of(eqx.tree_at(lambda r: (r.position, r.velocity, r.acceleration), crec, (theta, v, a))))
         if e2 is None:
             continue
         # off the training samples a non-finite residual times its zero weight would make every sum NaN
         db = np.bincount(blk, weights=np.where(w > 0, w * (own - e2), 0.0))
         mean = float(db.sum() / wb.sum())
-        nb = np.count_nonzero(wb)
         se = float(np.sqrt(np.sum((db - mean * wb) ** 2) * nb / (nb - 1)) / wb.sum())
         if mean > z * se and mean > gain:
             best, gain = choice, mean
@@ -442,14 +441,24 @@ def _paths(rec, crec, cond) -> dict:
     measured position where there is one and the measured velocity's own integral where there is
     one (:func:`~._condition.velocity_path`)."""
     paths = {"complementary" if cond.source != "recording" else "measured": M.kinematics_of(crec)}
-    if cond.source != "recording" and cond.position_measured:
-        paths["measured"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, np.asarray(rec.position)))
-    if cond.source != "recording" and cond.velocity_measured:
+    if cond.source != "recording":
+        for kind, present in (("measured", cond.position_measured), ("velocity", cond.velocity_measured)):
+            if present:
+                theta = _path_position(rec, np.asarray(crec.position), kind)
+                paths[kind] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, theta))
+    return paths
+
+
+def _path_position(rec, conditioned_position, kind: str) -> np.ndarray:
+    """A bristle path's positions: the conditioned ones (``complementary``), the recording's own
+    (``measured``) or the measured velocity's integral held to them (``velocity``)."""
+    if kind == "measured":
+        return np.asarray(rec.position)
+    if kind == "velocity":
         from ._condition import velocity_path
 
-        paths["velocity"] = M.kinematics_of(eqx.tree_at(lambda r: r.position, crec, velocity_path(
-            rec.time, crec.position, rec.velocity)))
-    return paths
+        return velocity_path(rec.time, conditioned_position, rec.velocity)
+    return conditioned_position
 
 
 def bristle_memory(x_pre: float, f_max: float, torque_noise: float, cfg) -> float:
