@@ -126,9 +126,9 @@ def test_a_window_that_fits_significantly_better_is_found():
     """The window check behind the conditioning (``_residual_window``): given kinematics smoothed
     over a window far too short for a noisy velocity sensor on a heavy joint, the generator's model's
     training residual is significantly lower on a longer window, and that window's model error
-    against the generator's noise-free torque is lower too."""
+    against the generator's noise-free torque is lower too; the held-out confirmation prefers it."""
     from lugre_jax.diagnose._condition import condition
-    from lugre_jax.diagnose._select import _residual_window, _split
+    from lugre_jax.diagnose._select import _predicts_better, _residual_window, _split
 
     plant = T.Plant(J=0.15, Fc=1.15, Fs=1.6, vs=0.065, sigma2=1.45, sigma0=245.0, sigma1=1.9)
     sens = T.Sensors(fs=500.0, torque_noise=0.03, velocity_noise=0.008, quantisation=0.0,
@@ -147,9 +147,13 @@ def test_a_window_that_fits_significantly_better_is_found():
         choice, gain = _residual_window(rec, crec, cond, base, kin, "complementary", split, cfg.alpha)
         keep = split.keep > 0
         err = np.sqrt(np.mean((g.true["torque"] - np.asarray(M.predict(base, kin)))[keep] ** 2))
-        return choice, gain, err
+        return choice, gain, err, (crec, base, kin, split)
 
-    choice, gain, err_short = check(9)
+    choice, gain, err_short, short = check(9)
     assert choice is not None and choice[0] == "velocity" and choice[1] > 9 and gain > 0, (choice, gain)
-    _, _, err_found = check(choice[1]) if choice[2] == 3 else (None, 0.0, None)
+    _, _, err_found, found = check(choice[1]) if choice[2] == 3 else (None, 0.0, None, None)
     assert err_found is not None and err_found < 0.5 * err_short, (err_found, err_short, choice)
+    # the refit's held-out confirmation (_predicts_better) takes the found window over the short one,
+    # and not the other way round
+    assert _predicts_better(short, found, cfg.min_resolved // 4)
+    assert not _predicts_better(found, short, cfg.min_resolved // 4)

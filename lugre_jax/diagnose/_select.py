@@ -277,7 +277,7 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
         crec, cond, unresolved = conditioned(float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     rest = _dwells(crec, cond, cfg)
     unresolved = unresolved | rest
-    rechosen = None
+    rechosen, first = None, None
     for second in (False, True):
         forget = None
         # the bristle state is unknown after a dwell (whatever the sensors), and with a velocity-only
@@ -314,7 +314,15 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
         kin = paths[path]
         info["bristle_path"] = path
         if second:
+            # the window is a nuisance choice kept, as the blend below, only where the refitted
+            # baseline predicts the held-out samples both windows keep better than the first did:
+            # the training residual compares one baseline on two windows, and the refit can move
+            if not _predicts_better(first[:4], (crec, base, kin, split), cfg.min_resolved // 4):
+                crec, cond, unresolved, rest, split, base, info, path, kin = first[4:]
+                info = {**info, "window_refused": rechosen}
+                rechosen = None
             break
+        first = (crec, base, kin, split, crec, cond, unresolved, rest, split, base, info, path, kin)
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
         if cond.source == "recording":  # no window error to compare for data used as loaded
             break
@@ -379,6 +387,17 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None or refit else 0
     lines = motion_lines(np.asarray(rec.time, float), np.asarray(kin.v, float), cfg.alpha_attribute)
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest, lines), split
+
+
+def _predicts_better(old, new, fewest: int) -> bool:
+    """Whether the baseline ``new`` (conditioned recording, baseline, kinematics, split) has a lower
+    mean square residual than ``old`` on the held-out samples both keep; False with fewer than
+    ``fewest`` of them (the held-out count a split needs)."""
+    both = np.asarray(old[3].val, bool) & np.asarray(new[3].val, bool)
+    if np.count_nonzero(both) < fewest:
+        return False
+    ms = [np.mean((np.asarray(c.torque) - np.asarray(M.predict(b, k)))[both] ** 2) for c, b, k, _ in (old, new)]
+    return bool(np.isfinite(ms[1]) and ms[1] < ms[0])
 
 
 def _residual_window(rec, crec, cond, base, kin, path: str, split, alpha: float) -> tuple:
