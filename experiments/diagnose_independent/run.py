@@ -3164,6 +3164,33 @@ def calib44_settings(n: int = 24):
                             [0.05, 0.09, 0.035], [0.0, 0.6, 0.3, 0.8], [0.004, 0.0015], [0.001, 0.0003],
                             22100, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=3, tn_rule=(1, 3))
 
+# calib45: the design of the held-out window confirmation (a rechosen window kept only where the
+# refitted baseline predicts the held-out samples better), frozen before its first run; rates and
+# torque noise drawn (numpy default_rng(4545)); three plants no earlier set used
+BREEZY = T.Plant(J=0.07, Fc=0.55, Fs=0.9, vs=0.04, sigma2=0.75, sigma0=150.0, sigma1=0.9)
+HALE = T.Plant(J=0.14, Fc=1.1, Fs=1.55, vs=0.055, sigma2=1.35, sigma0=250.0, sigma1=1.7)
+SNUG = T.Plant(J=0.1, Fc=0.8, Fs=1.2, vs=0.05, sigma2=1.0, sigma0=190.0, sigma1=1.2)
+_add_plants({"breezy": (BREEZY, T.VelocityPIController(kp=3.5, ki=21.0)),
+             "hale": (HALE, T.VelocityPIController(kp=7.0, ki=42.0)),
+             "snug": (SNUG, T.VelocityPIController(kp=5.0, ki=30.0))},
+            {"breezy": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
+             "hale": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
+             "snug": T.PositionPIDController.tuned(0.1, 3.3, tf=0.002)})
+
+
+def calib45_settings(n: int = 24):
+    """A forty-fifth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib42's) x both loops (the position PID without feedforward in every fourth
+    row), the velocity sensor alone in rows 0-11 and both sensors in rows 12-23 (where the window
+    check moves), on BREEZY, HALE and SNUG, at drawn rates 510-830 Hz and torque noise
+    0.054-0.077 N*m, white in a quarter of the rows and AR(1) of coefficient 0.3, 0.5 or 0.75 in
+    the rest, velocity noise 0.003 or 0.006 deg/s, quantisation 0.0005 or 0.001 deg; seeds 22300 + i."""
+    return _effect_free_set("calib45", CALIB42_EXCITATIONS, ["breezy", "hale", "snug"],
+                            [(False, True), (True, True), (True, False)], [560.0, 510.0, 625.0, 830.0, 645.0],
+                            [0.077, 0.062, 0.054], [0.0, 0.5, 0.3, 0.75], [0.003, 0.006], [0.0005, 0.001],
+                            22300, n, loops=("pid", "pi"), nff=2, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3204,7 +3231,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib40": calib40_settings, "fresh38": fresh38_settings, "outside15": outside15_settings,
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
-            "outside17": outside17_settings, "calib44": calib44_settings,
+            "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3389,7 +3416,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
-               "fresh40", "outside17", "calib44")
+               "fresh40", "outside17", "calib44", "calib45")
 
 
 def main():
