@@ -157,3 +157,32 @@ def test_a_window_that_fits_significantly_better_is_found():
     # and not the other way round
     assert _predicts_better(short, found, cfg.min_resolved // 4)
     assert not _predicts_better(found, short, cfg.min_resolved // 4)
+
+
+def test_a_window_whose_refit_predicts_no_better_is_refused(monkeypatch):
+    """The held-out confirmation's wiring in ``_prepare``: with the window check made to offer a
+    window twice as long, the refit on it is kept when ``_predicts_better`` says so (and the first
+    window recorded in ``window_rechosen_from``), and refused otherwise: the first window, its
+    conditioning and its baseline come back, and ``window_refused`` names the window offered."""
+    import lugre_jax.diagnose._select as S
+
+    plant = T.Plant(J=0.1, Fc=0.8, Fs=1.2, vs=0.05, sigma2=1.0, sigma0=190.0, sigma1=1.2)
+    sens = T.Sensors(fs=400.0, torque_noise=0.05, velocity_noise=0.004, quantisation=0.0,
+                     velocity_column=True, position_column=False)
+    exc = T.Staircase(speeds=(0.05, 0.2, 0.8, 2.4), dwell=2.0, transition=0.3, repeats=1, seed=9)
+    rec = T.generate(exc, [], plant, T.VelocityPIController(kp=5.0, ki=30.0), sens, seed=411).to_recording()
+    cfg = DiagnoseConfig()
+    monkeypatch.setattr(S, "_residual_window", lambda *a, **k: (None, 0.0))
+    first, _ = _prepare(rec, cfg, None, "lugre", False)
+    w0 = first.cond.window
+    offered = (first.cond.source, 2 * w0 + 1, first.cond.order)
+    monkeypatch.setattr(S, "_residual_window", lambda *a, **k: (offered, 1.0))
+    monkeypatch.setattr(S, "_predicts_better", lambda *a, **k: True)
+    kept, _ = _prepare(rec, cfg, None, "lugre", False)
+    assert kept.cond.window == 2 * w0 + 1 and kept.info["window_rechosen_from"]["window"] == w0, kept.info
+    monkeypatch.setattr(S, "_predicts_better", lambda *a, **k: False)
+    refused, _ = _prepare(rec, cfg, None, "lugre", False)
+    assert refused.cond.window == w0 and "window_rechosen_from" not in refused.info, refused.info
+    assert refused.info["window_refused"]["window"] == 2 * w0 + 1, refused.info
+    np.testing.assert_allclose(np.asarray(M.predict(refused.base, refused.kin)),
+                               np.asarray(M.predict(first.base, first.kin)), rtol=1e-6, atol=1e-9)

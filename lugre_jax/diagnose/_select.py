@@ -277,7 +277,7 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
         crec, cond, unresolved = conditioned(float(rough.J), float(getattr(rough.friction, "sigma2", 0.0)))
     rest = _dwells(crec, cond, cfg)
     unresolved = unresolved | rest
-    rechosen, first = None, None
+    rechosen, offered, first, first_state = None, None, None, None
     for second in (False, True):
         forget = None
         # the bristle state is unknown after a dwell (whatever the sensors), and with a velocity-only
@@ -317,12 +317,12 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
             # the window is a nuisance choice kept, as the blend below, only where the refitted
             # baseline predicts the held-out samples both windows keep better than the first did:
             # the training residual compares one baseline on two windows, and the refit can move
-            if not _predicts_better(first[:4], (crec, base, kin, split), cfg.min_resolved // 4):
-                crec, cond, unresolved, rest, split, base, info, path, kin = first[4:]
-                info = {**info, "window_refused": rechosen}
+            if not _predicts_better(first, (crec, base, kin, split), cfg.min_resolved // 4):
+                (crec, base, kin, split), (cond, unresolved, rest, info, path) = first, first_state
+                info = {**info, "window_refused": dict(zip(("source", "window", "order"), offered))}
                 rechosen = None
             break
-        first = (crec, base, kin, split, crec, cond, unresolved, rest, split, base, info, path, kin)
+        first, first_state = (crec, base, kin, split), (cond, unresolved, rest, info, path)
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
         if cond.source == "recording":  # no window error to compare for data used as loaded
             break
@@ -343,6 +343,7 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
             break
         rechosen = {"source": cond.source, "window": cond.window, "order": cond.order, "inertia": float(rough.J),
                     "excess_error_nm": float(np.sqrt(excess))}
+        offered = choice
         crec, cond, unresolved = conditioned(J_fit, s2_fit, choices=[choice])
         rest = _dwells(crec, cond, cfg)
         unresolved = unresolved | rest
