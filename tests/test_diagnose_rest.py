@@ -172,6 +172,12 @@ def test_a_window_whose_refit_predicts_no_better_is_refused(monkeypatch):
     exc = T.Staircase(speeds=(0.05, 0.2, 0.8, 2.4), dwell=2.0, transition=0.3, repeats=1, seed=9)
     rec = T.generate(exc, [], plant, T.VelocityPIController(kp=5.0, ki=30.0), sens, seed=411).to_recording()
     cfg = DiagnoseConfig()
+    # no blend and a few samples for the smoothing-bias rule, so that the rule's refit, on the paths
+    # left by the window's choice, follows it directly
+    import lugre_jax.diagnose._condition as C
+
+    monkeypatch.setattr(C, "smoothing_blend", lambda *a, **k: 0.0)
+    monkeypatch.setattr(C, "model_bias_unresolved", lambda rec_, *a, **k: np.arange(rec_.n) % 97 == 0)
     monkeypatch.setattr(S, "_residual_window", lambda *a, **k: (None, 0.0))
     first, _ = _prepare(rec, cfg, None, "lugre", False)
     w0 = first.cond.window
@@ -184,5 +190,10 @@ def test_a_window_whose_refit_predicts_no_better_is_refused(monkeypatch):
     refused, _ = _prepare(rec, cfg, None, "lugre", False)
     assert refused.cond.window == w0 and "window_rechosen_from" not in refused.info, refused.info
     assert refused.info["window_refused"]["window"] == 2 * w0 + 1, refused.info
+    # the smoothing-bias rule's refit runs on the first window's paths too
+    assert "model_bias_unresolved" in refused.info, refused.info
+    for f in ("v", "a"):
+        np.testing.assert_allclose(np.asarray(getattr(refused.kin, f)), np.asarray(getattr(first.kin, f)),
+                                   rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(np.asarray(M.predict(refused.base, refused.kin)),
                                np.asarray(M.predict(first.base, first.kin)), rtol=1e-6, atol=1e-9)

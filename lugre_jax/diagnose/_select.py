@@ -318,11 +318,11 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
             # baseline predicts the held-out samples both windows keep better than the first did:
             # the training residual compares one baseline on two windows, and the refit can move
             if not _predicts_better(first, (crec, base, kin, split), cfg.min_resolved // 4):
-                (crec, base, kin, split), (cond, unresolved, rest, info, path) = first, first_state
+                (crec, base, kin, split), (cond, unresolved, rest, info, path, paths) = first, first_state
                 info = {**info, "window_refused": dict(zip(("source", "window", "order"), offered))}
                 rechosen = None
             break
-        first, first_state = (crec, base, kin, split), (cond, unresolved, rest, info, path)
+        first, first_state = (crec, base, kin, split), (cond, unresolved, rest, info, path, paths)
         J_fit, s2_fit = float(base.J), float(getattr(base.friction, "sigma2", 0.0))
         if cond.source == "recording":  # no window error to compare for data used as loaded
             break
