@@ -3191,6 +3191,23 @@ def calib45_settings(n: int = 24):
                             22300, n, loops=("pid", "pi"), nff=2, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# fresh41: the design of the held-out window confirmation (66086ec, with b6a2490's restored
+# paths), frozen before its first run; rates and variations drawn (numpy default_rng(41):
+# uniform(250, 900) Hz rounded to 5, then the gravity's phase uniform(-pi, pi), the ripple's period
+# factor uniform(0.8, 1.25) and its phase uniform(-pi, pi)), not chosen; fresh3's plants, so its
+# rows compare with fresh34-40's
+_F41_FS = {"a": 870.0, "b": 750.0, "c": 330.0, "d": 790.0, "e": 800.0, "f": 475.0, "g": 580.0, "h": 640.0,
+           "i": 470.0}
+_F41_VARIED = _varied(0.7653, 1.1296, 2.2688)
+
+
+def fresh41_settings():
+    """A fresh set (issues #30 and #31), fixed and committed before its first run: all 24 of fresh3's
+    effect rows at 330-870 Hz (by recipe, drawn), seeds 22400 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh41", _F41_FS, _F41_VARIED, 22400)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3232,7 +3249,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3416,7 +3433,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
-               "fresh40", "outside17", "calib44", "calib45")
+               "fresh40", "outside17", "calib44", "calib45", "fresh41")
 
 
 def main():
