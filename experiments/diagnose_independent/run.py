@@ -3208,6 +3208,33 @@ def fresh41_settings():
     return _refreshed("fresh41", _F41_FS, _F41_VARIED, 22400)
 
 
+# calib46: the design of best_start (a candidate's fixed starts each over their own null mean),
+# frozen before its first run; rates and torque noise drawn (numpy default_rng(4646): uniform(150,
+# 900) Hz rounded to 5, then uniform(0.03, 0.12) N*m), not chosen; three plants no earlier set used
+DEFT = T.Plant(J=0.065, Fc=0.5, Fs=0.85, vs=0.04, sigma2=0.7, sigma0=140.0, sigma1=0.8)
+PLIANT = T.Plant(J=0.12, Fc=0.95, Fs=1.35, vs=0.05, sigma2=1.15, sigma0=215.0, sigma1=1.45)
+SOBER = T.Plant(J=0.09, Fc=0.7, Fs=1.1, vs=0.045, sigma2=0.95, sigma0=175.0, sigma1=1.1)
+_add_plants({"deft": (DEFT, T.VelocityPIController(kp=3.2, ki=19.0)),
+             "pliant": (PLIANT, T.VelocityPIController(kp=6.0, ki=36.0)),
+             "sober": (SOBER, T.VelocityPIController(kp=4.5, ki=27.0))},
+            {"deft": T.PositionPIDController.tuned(0.065, 3.5, tf=0.002),
+             "pliant": T.PositionPIDController.tuned(0.12, 3.1, tf=0.003),
+             "sober": T.PositionPIDController.tuned(0.09, 3.3, tf=0.002)})
+
+
+def calib46_settings(n: int = 24):
+    """A forty-sixth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib41's) x both loops (the position PID without feedforward in every fourth
+    row), the position sensor alone in rows 0-11 (where a Stribeck shape was named on calib38) and
+    both sensors in rows 12-23, on DEFT, PLIANT and SOBER, at drawn rates 190-710 Hz and torque
+    noise 0.03-0.074 N*m, white in half the rows and AR(1) of coefficient 0.4 or 0.7 in the other
+    half, velocity noise 0.002 or 0.005 deg/s, quantisation 0.0004 or 0.0012 deg; seeds 22500 + i."""
+    return _effect_free_set("calib46", CALIB41_EXCITATIONS, ["deft", "pliant", "sober"],
+                            [(True, False), (True, True), (False, True)], [250.0, 710.0, 515.0, 415.0, 190.0],
+                            [0.03, 0.074, 0.043], [0.0, 0.4, 0.0, 0.7], [0.002, 0.005], [0.0004, 0.0012],
+                            22500, n, loops=("pi", "pid"), nff=1, plant_k=2, fs_k=3, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3249,7 +3276,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "fresh41": fresh41_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "calib46": calib46_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3433,7 +3460,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
-               "fresh40", "outside17", "calib44", "calib45", "fresh41")
+               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46")
 
 
 def main():

@@ -356,6 +356,22 @@ def _gains(QB, XC, R):
     return _project(_complement(QB, XC), R)
 
 
+def best_start(g_obs, per: np.ndarray):
+    """Of a candidate's fixed starting points, the one whose gain (``g_obs``, one per start) is
+    largest over its own null mean (``per``: starts x draws, each start's gain on every draw), that
+    mean (``unit``) and the null of the statistic: per draw, the largest gain over its start's null
+    mean, times ``unit`` (so the recording's gain at the chosen start is compared in its own units).
+
+    The starts' columns need not see the null alike (a slow column takes more of a coloured noise);
+    a raw maximum would let the start with the largest null set the bar for every other, so that an
+    effect along a quieter start's column counts for less. Scaled, each start weighs alike, and the
+    same maximum on the recording and on every draw keeps the test exact."""
+    per = np.asarray(per, float)
+    m = np.maximum(per.mean(axis=1), 1e-300)
+    k = int(np.argmax(np.asarray(g_obs, float) / m))
+    return k, float(m[k]), np.max(per / m[:, None], axis=0) * float(m[k])
+
+
 def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, null: NullModel, n_draws: int,
                     alpha: float, seed: int = 0, nuisance=None) -> CandidateTest:
     """Test every candidate against the null simulated for this recording (module docstring).
@@ -388,7 +404,7 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
     def draw_gain(d, X):
         return float(_gains(nb.Q(d), X, Rn[:, d:d + 1])[0])
 
-    names, obs, null_stats, best = [], [], [], []
+    names, obs, null_stats, best, units = [], [], [], [], []
     ctx_draws = None
     for name, inst in candidates.items():
         if not inst.applicable(ctx_obs):
@@ -429,15 +445,21 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
                         i = index.get(_key(g))
                         if i is not None:
                             g_null[b] = max(g_null[b], draw_gain(b, views.at((ref[i], syn[:, i]), b, rows)))
+            unit = np.nan
         else:
-            g_null = np.zeros(n_draws)
-            for g in guesses:
+            # fixed starts: each start's gain over its own null mean, the largest over the starts
+            # (on the recording and on every draw alike). A raw maximum lets the start whose column
+            # the null's colour or kinematic errors load most set the bar for the others
+            per = np.zeros((len(guesses), n_draws))
+            for i, g in enumerate(guesses):
                 trial, specs = trial_specs(g)
                 built = views.build(lambda kk: jacobian(trial, specs, kk, rows))
-                g_null = np.maximum(g_null, [draw_gain(b, views.at(built, b, rows)) for b in range(n_draws)])
+                per[i] = [draw_gain(b, views.at(built, b, rows)) for b in range(n_draws)]
+            k, unit, g_null = best_start(g_obs, per)
         names.append(name)
         obs.append(g_obs[k])
         null_stats.append(g_null)
+        units.append(unit)
         best.append(guesses[k])
     if not names:
         z = np.zeros(0)
@@ -445,7 +467,9 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
     obs = np.asarray(obs)
     T = np.stack(null_stats, axis=1)  # draws x candidates
     # min-P over candidates (min_p): its resolution is 1/(n_draws + 1) whatever their number
-    p_raw, p_adj, std_obs = min_p(obs, T)
+    p_raw, p_adj, _ = min_p(obs, T)
+    # each gain over the null mean of its own start (searched candidates: of their statistic)
+    std_obs = obs / np.where(np.isnan(units), np.maximum(T.mean(axis=0), 1e-300), units)
     q = np.quantile(T, 1.0 - alpha, axis=0)
     return CandidateTest(tuple(names), obs, std_obs, p_raw, p_adj, q, tuple(best), n_draws)
 
