@@ -445,7 +445,7 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
                         i = index.get(_key(g))
                         if i is not None:
                             g_null[b] = max(g_null[b], draw_gain(b, views.at((ref[i], syn[:, i]), b, rows)))
-            unit = np.nan
+            unit = max(float(np.mean(g_null)), 1e-300)  # the searched statistic's own null mean
         else:
             # fixed starts: each start's gain over its own null mean, the largest over the starts
             # (on the recording and on every draw alike). A raw maximum lets the start whose column
@@ -468,8 +468,7 @@ def test_candidates(current, base_specs, candidates: dict, ctx_obs, kin, rows, n
     T = np.stack(null_stats, axis=1)  # draws x candidates
     # min-P over candidates (min_p): its resolution is 1/(n_draws + 1) whatever their number
     p_raw, p_adj, _ = min_p(obs, T)
-    # each gain over the null mean of its own start (searched candidates: of their statistic)
-    std_obs = obs / np.where(np.isnan(units), np.maximum(T.mean(axis=0), 1e-300), units)
+    std_obs = obs / np.asarray(units)  # each gain over the null mean of its own start (searched: statistic)
     q = np.quantile(T, 1.0 - alpha, axis=0)
     return CandidateTest(tuple(names), obs, std_obs, p_raw, p_adj, q, tuple(best), n_draws)
 
