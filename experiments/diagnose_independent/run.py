@@ -3235,6 +3235,20 @@ def calib46_settings(n: int = 24):
                             22500, n, loops=("pi", "pid"), nff=1, plant_k=2, fs_k=3, tn_rule=(1, 4))
 
 
+# fresh42: the design of best_start (2abc6a8), frozen before its first run; rates and variations
+# drawn as fresh41's (numpy default_rng(42)), not chosen; fresh3's plants
+_F42_FS = {"a": 755.0, "b": 535.0, "c": 810.0, "d": 705.0, "e": 310.0, "f": 885.0, "g": 745.0, "h": 760.0,
+           "i": 335.0}
+_F42_VARIED = _varied(-0.3117, 0.9669, 2.6814)
+
+
+def fresh42_settings():
+    """A fresh set (issues #30 and #31), fixed and committed before its first run: all 24 of fresh3's
+    effect rows at 310-885 Hz (by recipe, drawn), seeds 22600 + k, with the gravity's phase, the
+    asymmetry's sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh42", _F42_FS, _F42_VARIED, 22600)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3276,7 +3290,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "fresh41": fresh41_settings, "calib46": calib46_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3460,7 +3474,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
-               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46")
+               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42")
 
 
 def main():
