@@ -3249,6 +3249,33 @@ def fresh42_settings():
     return _refreshed("fresh42", _F42_FS, _F42_VARIED, 22600)
 
 
+# calib47: the design of best_start (2abc6a8), frozen before its first run; rates and torque noise
+# drawn (numpy default_rng(4747): uniform(150, 900) Hz rounded to 5, then uniform(0.03, 0.12) N*m), not
+# chosen; three plants no earlier set used
+TERSE = T.Plant(J=0.075, Fc=0.6, Fs=0.95, vs=0.035, sigma2=0.8, sigma0=160.0, sigma1=0.9)
+AMPLE = T.Plant(J=0.14, Fc=1.05, Fs=1.5, vs=0.055, sigma2=1.25, sigma0=230.0, sigma1=1.6)
+LUCID = T.Plant(J=0.1, Fc=0.8, Fs=1.2, vs=0.05, sigma2=1.0, sigma0=190.0, sigma1=1.2)
+_add_plants({"terse": (TERSE, T.VelocityPIController(kp=3.6, ki=21.0)),
+             "ample": (AMPLE, T.VelocityPIController(kp=6.6, ki=40.0)),
+             "lucid": (LUCID, T.VelocityPIController(kp=4.9, ki=29.0))},
+            {"terse": T.PositionPIDController.tuned(0.075, 3.4, tf=0.002),
+             "ample": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
+             "lucid": T.PositionPIDController.tuned(0.1, 3.2, tf=0.002)})
+
+
+def calib47_settings(n: int = 24):
+    """A forty-seventh effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib41's) x both loops (the position PID without feedforward in every fourth
+    row), the position sensor alone in rows 0-11 and the velocity sensor alone in rows 12-23, on
+    TERSE, AMPLE and LUCID, at drawn rates 255-785 Hz and torque noise 0.075-0.114 N*m, white in half
+    the rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.003 or 0.006
+    deg/s, quantisation 0.0005 or 0.001 deg; seeds 22700 + i."""
+    return _effect_free_set("calib47", CALIB41_EXCITATIONS, ["terse", "ample", "lucid"],
+                            [(True, False), (False, True), (True, True)], [525.0, 695.0, 785.0, 285.0, 255.0],
+                            [0.113, 0.114, 0.075], [0.0, 0.5, 0.0, 0.8], [0.003, 0.006], [0.0005, 0.001],
+                            22700, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3290,7 +3317,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3474,7 +3501,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
-               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42")
+               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47")
 
 
 def main():
