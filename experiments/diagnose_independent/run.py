@@ -69,6 +69,7 @@ import json
 import pickle
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -196,50 +197,59 @@ PLANTS = {"issue": (T.Plant(), T.VelocityPIController()), "paper_like": (PAPER_L
           "spare": (SPARE, T.VelocityPIController(kp=3.9, ki=23.5)),
           "husky": (HUSKY, T.VelocityPIController(kp=24.0, ki=145.0)),
           "tidy": (TIDY, T.VelocityPIController(kp=9.0, ki=54.0))}
+
+
+class PidTuning(NamedTuple):
+    """A position PID's tuning for its plant: ``T.PositionPIDController.tuned(plant.J, bandwidth_hz,
+    tf=tf)`` (the gains follow the plant's inertia, so it is not repeated here)."""
+    bandwidth_hz: float
+    tf: float
+
+
 # position PIDs (job key "controller": "pid"; "pid_nff": without the velocity feedforward): the rigid
 # joint's poles placed at 2.5-3.5 Hz, damping 0.8, derivative filter 2-5 ms
-PIDS = {"issue": T.PositionPIDController.tuned(0.1, 3.0), "paper_like": T.PositionPIDController.tuned(0.128, 2.5, tf=0.004),
-        "medium": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003), "nimble": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
-        "sluggish": T.PositionPIDController.tuned(0.25, 2.5, tf=0.005), "middle": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003),
-        "light": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002), "heavy": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
-        "flat": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003),
-        "stiff": T.PositionPIDController.tuned(0.1, 3.0, tf=0.003), "soft": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
-        "tiny": T.PositionPIDController.tuned(0.02, 3.5, tf=0.002),
-        "sharp": T.PositionPIDController.tuned(0.12, 3.0, tf=0.003), "massive": T.PositionPIDController.tuned(0.6, 2.5, tf=0.005),
-        "damped": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002),
-        "brisk": T.PositionPIDController.tuned(0.08, 3.0, tf=0.003),
-        "hefty": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
-        "dainty": T.PositionPIDController.tuned(0.03, 3.5, tf=0.002),
-        "stout": T.PositionPIDController.tuned(0.3, 2.5, tf=0.005),
-        "slender": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
-        "keen": T.PositionPIDController.tuned(0.18, 3.0, tf=0.003),
-        "modest": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003),
-        "feather": T.PositionPIDController.tuned(0.025, 3.5, tf=0.002),
-        "bulky": T.PositionPIDController.tuned(0.5, 2.5, tf=0.005),
-        "taut": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003),
-        "wiry": T.PositionPIDController.tuned(0.04, 3.5, tf=0.002),
-        "portly": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
-        "brawny": T.PositionPIDController.tuned(0.35, 2.5, tf=0.005),
-        "spry": T.PositionPIDController.tuned(0.05, 3.5, tf=0.002),
-        "sturdy": T.PositionPIDController.tuned(0.22, 3.0, tf=0.003),
-        "lithe": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
-        "hulking": T.PositionPIDController.tuned(0.55, 2.5, tf=0.005),
-        "steady": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003),
-        "nippy": T.PositionPIDController.tuned(0.09, 3.5, tf=0.002),
-        "burly": T.PositionPIDController.tuned(0.48, 2.5, tf=0.005),
-        "even": T.PositionPIDController.tuned(0.19, 3.0, tf=0.003),
-        "crisp": T.PositionPIDController.tuned(0.11, 3.0, tf=0.003),
-        "stocky": T.PositionPIDController.tuned(0.38, 2.5, tf=0.005),
-        "supple": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
-        "lanky": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
-        "chunky": T.PositionPIDController.tuned(0.42, 2.5, tf=0.005),
-        "poised": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
-        "wiry14": T.PositionPIDController.tuned(0.08, 3.5, tf=0.002),
-        "bulky14": T.PositionPIDController.tuned(0.45, 2.5, tf=0.005),
-        "trim": T.PositionPIDController.tuned(0.17, 3.0, tf=0.003),
-        "spare": T.PositionPIDController.tuned(0.065, 3.5, tf=0.002),
-        "husky": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
-        "tidy": T.PositionPIDController.tuned(0.15, 3.0, tf=0.003)}
+PIDS = {"issue": PidTuning(3.0, 0.002), "paper_like": PidTuning(2.5, 0.004),
+        "medium": PidTuning(3.0, 0.003), "nimble": PidTuning(3.5, 0.002),
+        "sluggish": PidTuning(2.5, 0.005), "middle": PidTuning(3.0, 0.003),
+        "light": PidTuning(3.5, 0.002), "heavy": PidTuning(2.5, 0.005),
+        "flat": PidTuning(3.0, 0.003),
+        "stiff": PidTuning(3.0, 0.003), "soft": PidTuning(2.5, 0.005),
+        "tiny": PidTuning(3.5, 0.002),
+        "sharp": PidTuning(3.0, 0.003), "massive": PidTuning(2.5, 0.005),
+        "damped": PidTuning(3.5, 0.002),
+        "brisk": PidTuning(3.0, 0.003),
+        "hefty": PidTuning(2.5, 0.005),
+        "dainty": PidTuning(3.5, 0.002),
+        "stout": PidTuning(2.5, 0.005),
+        "slender": PidTuning(3.5, 0.002),
+        "keen": PidTuning(3.0, 0.003),
+        "modest": PidTuning(3.0, 0.003),
+        "feather": PidTuning(3.5, 0.002),
+        "bulky": PidTuning(2.5, 0.005),
+        "taut": PidTuning(3.0, 0.003),
+        "wiry": PidTuning(3.5, 0.002),
+        "portly": PidTuning(2.5, 0.005),
+        "brawny": PidTuning(2.5, 0.005),
+        "spry": PidTuning(3.5, 0.002),
+        "sturdy": PidTuning(3.0, 0.003),
+        "lithe": PidTuning(3.5, 0.002),
+        "hulking": PidTuning(2.5, 0.005),
+        "steady": PidTuning(3.0, 0.003),
+        "nippy": PidTuning(3.5, 0.002),
+        "burly": PidTuning(2.5, 0.005),
+        "even": PidTuning(3.0, 0.003),
+        "crisp": PidTuning(3.0, 0.003),
+        "stocky": PidTuning(2.5, 0.005),
+        "supple": PidTuning(3.5, 0.002),
+        "lanky": PidTuning(3.5, 0.002),
+        "chunky": PidTuning(2.5, 0.005),
+        "poised": PidTuning(3.0, 0.003),
+        "wiry14": PidTuning(3.5, 0.002),
+        "bulky14": PidTuning(2.5, 0.005),
+        "trim": PidTuning(3.0, 0.003),
+        "spare": PidTuning(3.5, 0.002),
+        "husky": PidTuning(2.5, 0.005),
+        "tidy": PidTuning(3.0, 0.003)}
 
 
 def controller_of(job):
@@ -247,7 +257,8 @@ def controller_of(job):
     kind = job.get("controller", "pi")
     if kind == "pi":
         return plant, pi
-    pid = PIDS[job["plant"]]
+    tuning = PIDS[job["plant"]]
+    pid = T.PositionPIDController.tuned(plant.J, tuning.bandwidth_hz, tf=tuning.tf)
     if kind == "pid_nff":
         pid = dataclasses.replace(pid, kff=0.0)
     return plant, pid
@@ -1530,9 +1541,9 @@ def _add_plants(plants: dict, pids: dict):
 _add_plants({"lean": (LEAN, T.VelocityPIController(kp=3.2, ki=19.0)),
              "beefy": (BEEFY, T.VelocityPIController(kp=30.0, ki=175.0)),
              "neat": (NEAT, T.VelocityPIController(kp=10.5, ki=62.0))},
-            {"lean": T.PositionPIDController.tuned(0.075, 3.5, tf=0.002),
-             "beefy": T.PositionPIDController.tuned(0.43, 2.5, tf=0.005),
-             "neat": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003)})
+            {"lean": PidTuning(3.5, 0.002),
+             "beefy": PidTuning(2.5, 0.005),
+             "neat": PidTuning(3.0, 0.003)})
 
 # calib16's excitations: the six kinds with parameters no earlier set used
 CALIB16_EXCITATIONS = {
@@ -1731,9 +1742,9 @@ ORDINARY = T.Plant(J=0.2, Fc=0.85, Fs=1.25, vs=0.058, sigma2=1.3, sigma0=220.0, 
 _add_plants({"zippy": (ZIPPY, T.VelocityPIController(kp=4.0, ki=24.0)),
              "weighty": (WEIGHTY, T.VelocityPIController(kp=25.0, ki=150.0)),
              "ordinary": (ORDINARY, T.VelocityPIController(kp=12.0, ki=75.0))},
-            {"zippy": T.PositionPIDController.tuned(0.09, 3.2, tf=0.002),
-             "weighty": T.PositionPIDController.tuned(0.36, 2.6, tf=0.005),
-             "ordinary": T.PositionPIDController.tuned(0.2, 3.0, tf=0.003)})
+            {"zippy": PidTuning(3.2, 0.002),
+             "weighty": PidTuning(2.6, 0.005),
+             "ordinary": PidTuning(3.0, 0.003)})
 
 CALIB21_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.045, 0.15, 0.6, 1.7, 3.6), "dwell": 3.1 if i % 2 else 3.6,
@@ -1855,9 +1866,9 @@ AVERAGE = T.Plant(J=0.22, Fc=0.95, Fs=1.32, vs=0.061, sigma2=1.4, sigma0=235.0, 
 _add_plants({"agile": (AGILE, T.VelocityPIController(kp=4.6, ki=27.0)),
              "ponderous": (PONDEROUS, T.VelocityPIController(kp=27.0, ki=160.0)),
              "average": (AVERAGE, T.VelocityPIController(kp=13.0, ki=80.0))},
-            {"agile": T.PositionPIDController.tuned(0.11, 3.1, tf=0.002),
-             "ponderous": T.PositionPIDController.tuned(0.4, 2.5, tf=0.005),
-             "average": T.PositionPIDController.tuned(0.22, 2.9, tf=0.003)})
+            {"agile": PidTuning(3.1, 0.002),
+             "ponderous": PidTuning(2.5, 0.005),
+             "average": PidTuning(2.9, 0.003)})
 
 CALIB23_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.042, 0.16, 0.55, 1.8, 3.9), "dwell": 3.4 if i % 2 else 3.9,
@@ -1906,9 +1917,9 @@ MIDSIZE = T.Plant(J=0.21, Fc=0.9, Fs=1.28, vs=0.06, sigma2=1.35, sigma0=228.0, s
 _add_plants({"brisker": (BRISKER, T.VelocityPIController(kp=4.3, ki=25.0)),
              "heavyset": (HEAVYSET, T.VelocityPIController(kp=26.0, ki=155.0)),
              "midsize": (MIDSIZE, T.VelocityPIController(kp=12.5, ki=78.0))},
-            {"brisker": T.PositionPIDController.tuned(0.1, 3.15, tf=0.002),
-             "heavyset": T.PositionPIDController.tuned(0.38, 2.55, tf=0.005),
-             "midsize": T.PositionPIDController.tuned(0.21, 2.95, tf=0.003)})
+            {"brisker": PidTuning(3.15, 0.002),
+             "heavyset": PidTuning(2.55, 0.005),
+             "midsize": PidTuning(2.95, 0.003)})
 
 CALIB24_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.04, 0.15, 0.57, 1.75, 3.7), "dwell": 3.5 if i % 2 else 3.7,
@@ -1957,9 +1968,9 @@ MODERATE = T.Plant(J=0.23, Fc=0.95, Fs=1.33, vs=0.057, sigma2=1.41, sigma0=236.0
 _add_plants({"svelte": (SVELTE, T.VelocityPIController(kp=4.8, ki=28.0)),
              "thickset": (THICKSET, T.VelocityPIController(kp=28.0, ki=165.0)),
              "moderate": (MODERATE, T.VelocityPIController(kp=13.5, ki=82.0))},
-            {"svelte": T.PositionPIDController.tuned(0.12, 3.1, tf=0.002),
-             "thickset": T.PositionPIDController.tuned(0.41, 2.5, tf=0.005),
-             "moderate": T.PositionPIDController.tuned(0.23, 2.9, tf=0.003)})
+            {"svelte": PidTuning(3.1, 0.002),
+             "thickset": PidTuning(2.5, 0.005),
+             "moderate": PidTuning(2.9, 0.003)})
 
 CALIB25_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.038, 0.14, 0.6, 1.7, 3.9), "dwell": 3.3 if i % 2 else 3.9,
@@ -2008,9 +2019,9 @@ GANGLY = T.Plant(J=0.2, Fc=0.88, Fs=1.3, vs=0.062, sigma2=1.3, sigma0=220.0, sig
 _add_plants({"compact": (COMPACT, T.VelocityPIController(kp=5.5, ki=32.0)),
              "robust": (ROBUST, T.VelocityPIController(kp=25.0, ki=150.0)),
              "gangly": (GANGLY, T.VelocityPIController(kp=12.0, ki=74.0))},
-            {"compact": T.PositionPIDController.tuned(0.14, 3.05, tf=0.002),
-             "robust": T.PositionPIDController.tuned(0.36, 2.6, tf=0.005),
-             "gangly": T.PositionPIDController.tuned(0.2, 2.95, tf=0.003)})
+            {"compact": PidTuning(3.05, 0.002),
+             "robust": PidTuning(2.6, 0.005),
+             "gangly": PidTuning(2.95, 0.003)})
 
 CALIB26_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.042, 0.16, 0.55, 1.8, 3.6), "dwell": 3.4 if i % 2 else 3.8,
@@ -2061,9 +2072,9 @@ RANGY = T.Plant(J=0.25, Fc=1.02, Fs=1.41, vs=0.059, sigma2=1.46, sigma0=245.0, s
 _add_plants({"lissom": (LISSOM, T.VelocityPIController(kp=6.2, ki=36.0)),
              "squat": (SQUAT, T.VelocityPIController(kp=23.0, ki=138.0)),
              "rangy": (RANGY, T.VelocityPIController(kp=14.5, ki=88.0))},
-            {"lissom": T.PositionPIDController.tuned(0.16, 3.0, tf=0.002),
-             "squat": T.PositionPIDController.tuned(0.33, 2.65, tf=0.005),
-             "rangy": T.PositionPIDController.tuned(0.25, 2.85, tf=0.003)})
+            {"lissom": PidTuning(3.0, 0.002),
+             "squat": PidTuning(2.65, 0.005),
+             "rangy": PidTuning(2.85, 0.003)})
 
 CALIB27_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.045, 0.15, 0.58, 1.65, 3.7), "dwell": 3.2 if i % 2 else 3.7,
@@ -2114,9 +2125,9 @@ GAUNT = T.Plant(J=0.23, Fc=0.97, Fs=1.36, vs=0.061, sigma2=1.41, sigma0=238.0, s
 _add_plants({"sinewy": (SINEWY, T.VelocityPIController(kp=7.0, ki=40.0)),
              "dumpy": (DUMPY, T.VelocityPIController(kp=21.5, ki=130.0)),
              "gaunt": (GAUNT, T.VelocityPIController(kp=13.5, ki=82.0))},
-            {"sinewy": T.PositionPIDController.tuned(0.18, 3.0, tf=0.002),
-             "dumpy": T.PositionPIDController.tuned(0.31, 2.7, tf=0.005),
-             "gaunt": T.PositionPIDController.tuned(0.23, 2.9, tf=0.003)})
+            {"sinewy": PidTuning(3.0, 0.002),
+             "dumpy": PidTuning(2.7, 0.005),
+             "gaunt": PidTuning(2.9, 0.003)})
 
 CALIB28_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.047, 0.17, 0.6, 1.75, 3.55), "dwell": 3.3 if i % 2 else 3.9,
@@ -2165,9 +2176,9 @@ LEGGY = T.Plant(J=0.34, Fc=1.52, Fs=2.02, vs=0.07, sigma2=1.66, sigma0=292.0, si
 _add_plants({"willowy": (WILLOWY, T.VelocityPIController(kp=9.0, ki=52.0)),
              "spindly": (SPINDLY, T.VelocityPIController(kp=16.5, ki=100.0)),
              "leggy": (LEGGY, T.VelocityPIController(kp=24.0, ki=145.0))},
-            {"willowy": T.PositionPIDController.tuned(0.2, 2.95, tf=0.002),
-             "spindly": T.PositionPIDController.tuned(0.27, 2.8, tf=0.004),
-             "leggy": T.PositionPIDController.tuned(0.34, 2.65, tf=0.005)})
+            {"willowy": PidTuning(2.95, 0.002),
+             "spindly": PidTuning(2.8, 0.004),
+             "leggy": PidTuning(2.65, 0.005)})
 
 CALIB29_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.043, 0.16, 0.62, 1.7, 3.65), "dwell": 3.4 if i % 2 else 3.8,
@@ -2217,9 +2228,9 @@ PLUMP = T.Plant(J=0.37, Fc=1.63, Fs=2.18, vs=0.073, sigma2=1.74, sigma0=305.0, s
 _add_plants({"wispy": (WISPY, T.VelocityPIController(kp=8.0, ki=46.0)),
              "reedy": (REEDY, T.VelocityPIController(kp=14.5, ki=88.0)),
              "plump": (PLUMP, T.VelocityPIController(kp=26.0, ki=155.0))},
-            {"wispy": T.PositionPIDController.tuned(0.17, 3.0, tf=0.002),
-             "reedy": T.PositionPIDController.tuned(0.24, 2.85, tf=0.003),
-             "plump": T.PositionPIDController.tuned(0.37, 2.6, tf=0.005)})
+            {"wispy": PidTuning(3.0, 0.002),
+             "reedy": PidTuning(2.85, 0.003),
+             "plump": PidTuning(2.6, 0.005)})
 
 CALIB30_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.038, 0.14, 0.57, 1.55, 3.45), "dwell": 3.3 if i % 2 else 3.7,
@@ -2286,9 +2297,9 @@ CHUBBY = T.Plant(J=0.35, Fc=1.57, Fs=2.09, vs=0.069, sigma2=1.69, sigma0=298.0, 
 _add_plants({"bony": (BONY, T.VelocityPIController(kp=8.5, ki=49.0)),
              "gawky": (GAWKY, T.VelocityPIController(kp=15.5, ki=94.0)),
              "chubby": (CHUBBY, T.VelocityPIController(kp=25.0, ki=150.0))},
-            {"bony": T.PositionPIDController.tuned(0.19, 2.9, tf=0.002),
-             "gawky": T.PositionPIDController.tuned(0.26, 2.75, tf=0.004),
-             "chubby": T.PositionPIDController.tuned(0.35, 2.7, tf=0.005)})
+            {"bony": PidTuning(2.9, 0.002),
+             "gawky": PidTuning(2.75, 0.004),
+             "chubby": PidTuning(2.7, 0.005)})
 
 CALIB31_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.041, 0.15, 0.59, 1.65, 3.5), "dwell": 3.2 if i % 2 else 3.6,
@@ -2362,9 +2373,9 @@ HEFTIER = T.Plant(J=0.40, Fc=1.70, Fs=2.30, vs=0.072, sigma2=1.80, sigma0=320.0,
 _add_plants({"gracile": (GRACILE, T.VelocityPIController(kp=7.0, ki=41.0)),
              "meaty": (MEATY, T.VelocityPIController(kp=18.0, ki=108.0)),
              "heftier": (HEFTIER, T.VelocityPIController(kp=28.0, ki=168.0))},
-            {"gracile": T.PositionPIDController.tuned(0.15, 3.1, tf=0.002),
-             "meaty": T.PositionPIDController.tuned(0.30, 2.8, tf=0.004),
-             "heftier": T.PositionPIDController.tuned(0.40, 2.6, tf=0.005)})
+            {"gracile": PidTuning(3.1, 0.002),
+             "meaty": PidTuning(2.8, 0.004),
+             "heftier": PidTuning(2.6, 0.005)})
 
 CALIB32_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.038, 0.14, 0.55, 1.55, 3.4), "dwell": 3.1 if i % 2 else 3.5,
@@ -2402,9 +2413,9 @@ ROTUND = T.Plant(J=0.33, Fc=1.45, Fs=1.95, vs=0.068, sigma2=1.65, sigma0=285.0, 
 _add_plants({"scrawny": (SCRAWNY, T.VelocityPIController(kp=5.5, ki=32.0)),
              "hardy": (HARDY, T.VelocityPIController(kp=13.0, ki=78.0)),
              "rotund": (ROTUND, T.VelocityPIController(kp=22.0, ki=132.0))},
-            {"scrawny": T.PositionPIDController.tuned(0.12, 3.2, tf=0.002),
-             "hardy": T.PositionPIDController.tuned(0.24, 2.9, tf=0.003),
-             "rotund": T.PositionPIDController.tuned(0.33, 2.7, tf=0.005)})
+            {"scrawny": PidTuning(3.2, 0.002),
+             "hardy": PidTuning(2.9, 0.003),
+             "rotund": PidTuning(2.7, 0.005)})
 
 CALIB33_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.044, 0.16, 0.57, 1.6, 3.45), "dwell": 3.0 if i % 2 else 3.3,
@@ -2454,9 +2465,9 @@ STRAPPING = T.Plant(J=0.36, Fc=1.55, Fs=2.05, vs=0.071, sigma2=1.75, sigma0=300.
 _add_plants({"puny": (PUNY, T.VelocityPIController(kp=6.2, ki=36.0)),
              "bulbous": (BULBOUS, T.VelocityPIController(kp=14.5, ki=86.0)),
              "strapping": (STRAPPING, T.VelocityPIController(kp=24.0, ki=144.0))},
-            {"puny": T.PositionPIDController.tuned(0.14, 3.1, tf=0.002),
-             "bulbous": T.PositionPIDController.tuned(0.27, 2.8, tf=0.004),
-             "strapping": T.PositionPIDController.tuned(0.36, 2.6, tf=0.005)})
+            {"puny": PidTuning(3.1, 0.002),
+             "bulbous": PidTuning(2.8, 0.004),
+             "strapping": PidTuning(2.6, 0.005)})
 
 CALIB34_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.047, 0.17, 0.6, 1.55, 3.3), "dwell": 2.9 if i % 2 else 3.2,
@@ -2507,9 +2518,9 @@ CHONKY = T.Plant(J=0.39, Fc=1.6, Fs=2.15, vs=0.069, sigma2=1.8, sigma0=310.0, si
 _add_plants({"boney": (BONEY, T.VelocityPIController(kp=6.8, ki=40.0)),
              "tubby": (TUBBY, T.VelocityPIController(kp=14.0, ki=84.0)),
              "chonky": (CHONKY, T.VelocityPIController(kp=26.0, ki=150.0))},
-            {"boney": T.PositionPIDController.tuned(0.15, 3.05, tf=0.002),
-             "tubby": T.PositionPIDController.tuned(0.26, 2.85, tf=0.004),
-             "chonky": T.PositionPIDController.tuned(0.39, 2.6, tf=0.005)})
+            {"boney": PidTuning(3.05, 0.002),
+             "tubby": PidTuning(2.85, 0.004),
+             "chonky": PidTuning(2.6, 0.005)})
 
 CALIB35_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.044, 0.16, 0.62, 1.6, 3.5), "dwell": 3.0 if i % 2 else 3.4,
@@ -2594,9 +2605,9 @@ ROTUNDA = T.Plant(J=0.32, Fc=1.35, Fs=1.85, vs=0.063, sigma2=1.6, sigma0=280.0, 
 _add_plants({"petite": (PETITE, T.VelocityPIController(kp=5.0, ki=30.0)),
              "bricky": (BRICKY, T.VelocityPIController(kp=10.0, ki=60.0)),
              "rotunda": (ROTUNDA, T.VelocityPIController(kp=19.0, ki=112.0))},
-            {"petite": T.PositionPIDController.tuned(0.11, 3.2, tf=0.002),
-             "bricky": T.PositionPIDController.tuned(0.2, 2.95, tf=0.003),
-             "rotunda": T.PositionPIDController.tuned(0.32, 2.7, tf=0.004)})
+            {"petite": PidTuning(3.2, 0.002),
+             "bricky": PidTuning(2.95, 0.003),
+             "rotunda": PidTuning(2.7, 0.004)})
 
 CALIB36_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.05, 0.18, 0.7, 1.9, 3.8), "dwell": 2.8 if i % 2 else 3.2,
@@ -2675,9 +2686,9 @@ SLIGHT = T.Plant(J=0.09, Fc=0.62, Fs=0.94, vs=0.041, sigma2=1.02, sigma0=180.0, 
 _add_plants({"knobby": (KNOBBY, T.VelocityPIController(kp=6.0, ki=35.0)),
              "lumpy": (LUMPY, T.VelocityPIController(kp=12.0, ki=72.0)),
              "slight": (SLIGHT, T.VelocityPIController(kp=4.2, ki=25.0))},
-            {"knobby": T.PositionPIDController.tuned(0.13, 3.1, tf=0.002),
-             "lumpy": T.PositionPIDController.tuned(0.23, 2.9, tf=0.003),
-             "slight": T.PositionPIDController.tuned(0.09, 3.3, tf=0.002)})
+            {"knobby": PidTuning(3.1, 0.002),
+             "lumpy": PidTuning(2.9, 0.003),
+             "slight": PidTuning(3.3, 0.002)})
 
 CALIB37_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.047, 0.17, 0.66, 1.75, 3.6), "dwell": 2.9 if i % 2 else 3.3,
@@ -2755,9 +2766,9 @@ BOXY = T.Plant(J=0.16, Fc=0.86, Fs=1.24, vs=0.05, sigma2=1.25, sigma0=222.0, sig
 _add_plants({"skinny": (SKINNY, T.VelocityPIController(kp=4.0, ki=24.0)),
              "pudgy": (PUDGY, T.VelocityPIController(kp=14.0, ki=84.0)),
              "boxy": (BOXY, T.VelocityPIController(kp=8.0, ki=48.0))},
-            {"skinny": T.PositionPIDController.tuned(0.085, 3.4, tf=0.002),
-             "pudgy": T.PositionPIDController.tuned(0.27, 2.8, tf=0.004),
-             "boxy": T.PositionPIDController.tuned(0.16, 3.0, tf=0.003)})
+            {"skinny": PidTuning(3.4, 0.002),
+             "pudgy": PidTuning(2.8, 0.004),
+             "boxy": PidTuning(3.0, 0.003)})
 
 CALIB38_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.052, 0.19, 0.64, 1.85, 3.9), "dwell": 3.0 if i % 2 else 2.5,
@@ -2835,9 +2846,9 @@ KNOTTY = T.Plant(J=0.18, Fc=0.92, Fs=1.32, vs=0.052, sigma2=1.3, sigma0=230.0, s
 _add_plants({"wobbly": (WOBBLY, T.VelocityPIController(kp=4.6, ki=28.0)),
              "stubby": (STUBBY, T.VelocityPIController(kp=16.0, ki=95.0)),
              "knotty": (KNOTTY, T.VelocityPIController(kp=9.0, ki=54.0))},
-            {"wobbly": T.PositionPIDController.tuned(0.1, 3.3, tf=0.002),
-             "stubby": T.PositionPIDController.tuned(0.3, 2.75, tf=0.004),
-             "knotty": T.PositionPIDController.tuned(0.18, 2.95, tf=0.003)})
+            {"wobbly": PidTuning(3.3, 0.002),
+             "stubby": PidTuning(2.75, 0.004),
+             "knotty": PidTuning(2.95, 0.003)})
 
 CALIB39_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.05, 0.18, 0.66, 1.8, 3.7), "dwell": 2.0 if i % 2 else 3.5,
@@ -2890,9 +2901,9 @@ STOLID = T.Plant(J=0.24, Fc=1.1, Fs=1.55, vs=0.056, sigma2=1.45, sigma0=250.0, s
 _add_plants({"gritty": (GRITTY, T.VelocityPIController(kp=5.2, ki=31.0)),
              "sprightly": (SPRIGHTLY, T.VelocityPIController(kp=3.6, ki=22.0)),
              "stolid": (STOLID, T.VelocityPIController(kp=12.5, ki=75.0))},
-            {"gritty": T.PositionPIDController.tuned(0.11, 3.2, tf=0.002),
-             "sprightly": T.PositionPIDController.tuned(0.075, 3.5, tf=0.002),
-             "stolid": T.PositionPIDController.tuned(0.24, 2.85, tf=0.004)})
+            {"gritty": PidTuning(3.2, 0.002),
+             "sprightly": PidTuning(3.5, 0.002),
+             "stolid": PidTuning(2.85, 0.004)})
 
 _OUT14_RECIPES = {
     "a": ("gritty", "pi", "multisine", {"amplitude": 2.35, "f0": 0.05, "f1": 1.48, "n": 11, "duration": 43.0},
@@ -2975,9 +2986,9 @@ DOUR = T.Plant(J=0.2, Fc=1.3, Fs=1.7, vs=0.07, sigma2=1.6, sigma0=260.0, sigma1=
 _add_plants({"plucky": (PLUCKY, T.VelocityPIController(kp=2.2, ki=13.0)),
              "fleet": (FLEET, T.VelocityPIController(kp=6.5, ki=39.0)),
              "dour": (DOUR, T.VelocityPIController(kp=10.0, ki=60.0))},
-            {"plucky": T.PositionPIDController.tuned(0.045, 3.6, tf=0.002),
-             "fleet": T.PositionPIDController.tuned(0.13, 3.1, tf=0.003),
-             "dour": T.PositionPIDController.tuned(0.2, 2.9, tf=0.004)})
+            {"plucky": PidTuning(3.6, 0.002),
+             "fleet": PidTuning(3.1, 0.003),
+             "dour": PidTuning(2.9, 0.004)})
 
 def _outside14_on(plants: dict, fs: tuple) -> dict:
     """outside14's recipes with each of its plants replaced (``plants``: its plant -> another) and the
@@ -3035,9 +3046,9 @@ FRAIL = T.Plant(J=0.095, Fc=0.75, Fs=1.2, vs=0.038, sigma2=1.0, sigma0=190.0, si
 _add_plants({"elfin": (ELFIN, T.VelocityPIController(kp=3.5, ki=21.0)),
              "rugged": (RUGGED, T.VelocityPIController(kp=8.5, ki=51.0)),
              "frail": (FRAIL, T.VelocityPIController(kp=4.8, ki=29.0))},
-            {"elfin": T.PositionPIDController.tuned(0.07, 3.4, tf=0.002),
-             "rugged": T.PositionPIDController.tuned(0.17, 3.0, tf=0.004),
-             "frail": T.PositionPIDController.tuned(0.095, 3.3, tf=0.003)})
+            {"elfin": PidTuning(3.4, 0.002),
+             "rugged": PidTuning(3.0, 0.004),
+             "frail": PidTuning(3.3, 0.003)})
 
 CALIB42_EXCITATIONS = {
     "staircase": lambda i: {"speeds": (0.035, 0.13, 0.5, 1.7, 3.9), "dwell": 2.9 if i % 2 else 2.4,
@@ -3077,9 +3088,9 @@ LIMBER = T.Plant(J=0.15, Fc=1.15, Fs=1.6, vs=0.065, sigma2=1.45, sigma0=245.0, s
 _add_plants({"dapper": (DAPPER, T.VelocityPIController(kp=3.0, ki=18.0)),
              "jaunty": (JAUNTY, T.VelocityPIController(kp=5.5, ki=33.0)),
              "limber": (LIMBER, T.VelocityPIController(kp=7.5, ki=45.0))},
-            {"dapper": T.PositionPIDController.tuned(0.06, 3.5, tf=0.002),
-             "jaunty": T.PositionPIDController.tuned(0.11, 3.2, tf=0.003),
-             "limber": T.PositionPIDController.tuned(0.15, 3.0, tf=0.004)})
+            {"dapper": PidTuning(3.5, 0.002),
+             "jaunty": PidTuning(3.2, 0.003),
+             "limber": PidTuning(3.0, 0.004)})
 
 _F39_FS = {"a": 550.0, "b": 580.0, "c": 295.0, "d": 415.0, "e": 605.0, "f": 755.0, "g": 305.0, "h": 360.0,
            "i": 860.0}
@@ -3126,9 +3137,9 @@ MELLOW = T.Plant(J=0.05, Fc=0.42, Fs=0.7, vs=0.03, sigma2=0.6, sigma0=130.0, sig
 _add_plants({"slack": (SLACK, T.VelocityPIController(kp=4.0, ki=24.0)),
              "rigid": (RIGID, T.VelocityPIController(kp=6.5, ki=39.0)),
              "mellow": (MELLOW, T.VelocityPIController(kp=2.5, ki=15.0))},
-            {"slack": T.PositionPIDController.tuned(0.08, 3.4, tf=0.002),
-             "rigid": T.PositionPIDController.tuned(0.13, 3.1, tf=0.003),
-             "mellow": T.PositionPIDController.tuned(0.05, 3.6, tf=0.002)})
+            {"slack": PidTuning(3.4, 0.002),
+             "rigid": PidTuning(3.1, 0.003),
+             "mellow": PidTuning(3.6, 0.002)})
 
 _F40_FS = {"a": 725.0, "b": 700.0, "c": 860.0, "d": 290.0, "e": 700.0, "f": 850.0, "g": 560.0, "h": 470.0,
            "i": 640.0}
@@ -3173,9 +3184,9 @@ SNUG = T.Plant(J=0.1, Fc=0.8, Fs=1.2, vs=0.05, sigma2=1.0, sigma0=190.0, sigma1=
 _add_plants({"breezy": (BREEZY, T.VelocityPIController(kp=3.5, ki=21.0)),
              "hale": (HALE, T.VelocityPIController(kp=7.0, ki=42.0)),
              "snug": (SNUG, T.VelocityPIController(kp=5.0, ki=30.0))},
-            {"breezy": T.PositionPIDController.tuned(0.07, 3.5, tf=0.002),
-             "hale": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
-             "snug": T.PositionPIDController.tuned(0.1, 3.3, tf=0.002)})
+            {"breezy": PidTuning(3.5, 0.002),
+             "hale": PidTuning(3.0, 0.003),
+             "snug": PidTuning(3.3, 0.002)})
 
 
 def calib45_settings(n: int = 24):
@@ -3217,9 +3228,9 @@ SOBER = T.Plant(J=0.09, Fc=0.7, Fs=1.1, vs=0.045, sigma2=0.95, sigma0=175.0, sig
 _add_plants({"deft": (DEFT, T.VelocityPIController(kp=3.2, ki=19.0)),
              "pliant": (PLIANT, T.VelocityPIController(kp=6.0, ki=36.0)),
              "sober": (SOBER, T.VelocityPIController(kp=4.5, ki=27.0))},
-            {"deft": T.PositionPIDController.tuned(0.065, 3.5, tf=0.002),
-             "pliant": T.PositionPIDController.tuned(0.12, 3.1, tf=0.003),
-             "sober": T.PositionPIDController.tuned(0.09, 3.3, tf=0.002)})
+            {"deft": PidTuning(3.5, 0.002),
+             "pliant": PidTuning(3.1, 0.003),
+             "sober": PidTuning(3.3, 0.002)})
 
 
 def calib46_settings(n: int = 24):
@@ -3258,9 +3269,9 @@ LUCID = T.Plant(J=0.1, Fc=0.8, Fs=1.2, vs=0.05, sigma2=1.0, sigma0=190.0, sigma1
 _add_plants({"terse": (TERSE, T.VelocityPIController(kp=3.6, ki=21.0)),
              "ample": (AMPLE, T.VelocityPIController(kp=6.6, ki=40.0)),
              "lucid": (LUCID, T.VelocityPIController(kp=4.9, ki=29.0))},
-            {"terse": T.PositionPIDController.tuned(0.075, 3.4, tf=0.002),
-             "ample": T.PositionPIDController.tuned(0.14, 3.0, tf=0.003),
-             "lucid": T.PositionPIDController.tuned(0.1, 3.2, tf=0.002)})
+            {"terse": PidTuning(3.4, 0.002),
+             "ample": PidTuning(3.0, 0.003),
+             "lucid": PidTuning(3.2, 0.002)})
 
 
 def calib47_settings(n: int = 24):
