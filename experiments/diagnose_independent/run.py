@@ -3286,6 +3286,18 @@ def calib47_settings(n: int = 24):
                             [0.113, 0.114, 0.075], [0.0, 0.5, 0.0, 0.8], [0.003, 0.006], [0.0005, 0.001],
                             22700, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
+# outside18: the design of best_start (2abc6a8), frozen before its first run; rates drawn (numpy
+# default_rng(18): uniform(200, 800) Hz rounded to 5, rows a-h), not chosen
+_OUT18_RECIPES = _outside14_on({"gritty": "lucid", "sprightly": "terse", "stolid": "ample"},
+                               (440.0, 630.0, 370.0, 250.0, 780.0, 540.0, 585.0, 545.0))
+
+
+def outside18_settings():
+    """An eighteenth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on LUCID, TERSE and AMPLE, at drawn rates (250-780 Hz) and seeds 22900 + k."""
+    return _outside_set("outside18_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT18_RECIPES, 22900)
+
+
 
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
@@ -3328,7 +3340,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3512,7 +3524,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib34", "fresh32", "calib35", "outside10", "fresh33", "calib35v", "calib36", "fresh34", "outside11", "calib37", "outside12", "fresh35",
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
-               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47")
+               "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
+               "outside18")
 
 
 def main():
