@@ -9,7 +9,8 @@ kinematics' errors. Each recording is diagnosed without the attribution's margin
   place of the measured ones (the baseline fitted).
 
 A term that stays with the generator's parameters but goes with exact kinematics is made by the
-kinematics' errors through the model, not by where the fit landed. Writes one line per recording
+kinematics' errors through the model, not by where the fit landed. ``step1_below_bar`` lists the
+candidates the naming test's first step finds significant each way (before the held-out test). Writes one line per recording
 and way to <out>/eiv_terms_<study>.jsonl and prints it.
 
     python experiments/diagnose_independent/eiv_terms.py --study calib30 \\
@@ -41,7 +42,11 @@ def _row(job, way: str, rep) -> dict:
             # (the diagnosis's rule: p_family <= alpha/3, with its tolerance for 2/120 against 0.05/3)
             "significant": [{"signal": t["signal"], "p_family": t["p_family"]}
                             for step in j["attribution"]["tests"] for t in step
-                            if t.get("p_family", 1.0) <= j["alpha"] / 3.0 * (1.0 + 1e-9)]}
+                            if t.get("p_family", 1.0) <= j["alpha"] / 3.0 * (1.0 + 1e-9)],
+            # the candidates the naming test's first step finds significant (whatever the later checks)
+            "step1_below_bar": [{"name": t["name"], "p_family": t["p_family"]}
+                                for t in (j["selection_log"][0]["tests"] if j["selection_log"] else [])
+                                if t.get("p_family", 1.0) <= j["alpha"] / 3.0 * (1.0 + 1e-9)]}
 
 
 def main() -> None:
