@@ -14,18 +14,26 @@ over the eight candidates (Bonferroni; for an effect outside them, ``expected`` 
 same level over the attribution's eight groups with the time line). Writes <out>/oracle_<study>.jsonl and prints a line a row.
 
     python experiments/diagnose_independent/oracle_power.py --study fresh31
+
+With ``--kept`` each row is diagnosed again (minutes a row) and ``lam_kept`` and ``oracle_power_kept``
+hold the same over the training samples the diagnosis keeps (dwells, transients and samples the
+kinematics do not resolve left out), ``lam_val`` over the fixed held-out phase's samples (which
+confirm an attribution term), to <out>/oracle_kept_<study>.jsonl; ``--only`` takes
+comma-separated keys. ``--tally S1,S2`` reads the written rows of studies instead: of the rows an
+oracle finds with power 0.9 or more, how many the diagnosis got exactly right.
 """
 
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
 from scipy.stats import chi2, ncx2
 
 import run as R
-from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, baseline_from_params, predict
+from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, baseline_from_params, diagnose, predict
 
 PARAMS = ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1")  # the baseline's directions (delta is fixed)
 
@@ -71,8 +79,27 @@ def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> 
             "lam": float(share * np.sum(left ** 2) / innovation)}
 
 
+def tally(studies: list[str], power: float = 0.9) -> None:
+    """Over the studies' written oracle rows with ``oracle_power`` at least ``power``: how many the
+    diagnosis got exactly right (their ``runs_<study>.jsonl``), and the misses."""
+    res = Path(__file__).resolve().with_name("results")
+    hit = n = 0
+    for study in studies:
+        runs = {d["key"]: d for d in map(json.loads, (res / study / f"runs_{study}.jsonl").read_text().splitlines())}
+        for o in map(json.loads, (res / study / f"oracle_{study}.jsonl").read_text().splitlines()):
+            if o["oracle_power"] >= power and o["key"] in runs:
+                n += 1
+                hit += bool(runs[o["key"]]["correct"])
+                if not runs[o["key"]]["correct"]:
+                    print(f"missed: {o['key']} (oracle power {o['oracle_power']:.2f}, verdict {runs[o['key']]['verdict']})")
+    print(f"rows an oracle finds with power >= {power}: {hit} of {n} exactly right")
+
+
 def main() -> None:
-    a, res, out = R.study_cli(__doc__)
+    if "--tally" in sys.argv:  # python oracle_power.py --tally outside10,outside11
+        return tally(sys.argv[sys.argv.index("--tally") + 1].split(","))
+    a, res, out = R.study_cli(__doc__, ("--kept", {"action": "store_true", "help": "also over the samples the diagnosis keeps"}),
+                              ("--only", {"default": "", "help": "comma-separated keys (default: every effect row)"}))
     runs = {}
     if (res / f"runs_{a.study}.jsonl").exists():
         runs = {d["key"]: d for d in map(json.loads, (res / f"runs_{a.study}.jsonl").read_text().splitlines())}
@@ -80,19 +107,31 @@ def main() -> None:
     crit = chi2.isf(cfg.alpha_name / len(CANDIDATES), 1)
     lines, total, rows = [], 0.0, 0
     for job in R.SETTINGS[a.study]():
-        if job.get("expected", "none") == "none":
+        if job.get("expected", "none") == "none" or (a.only and job["key"] not in a.only.split(",")):
             continue
         g, _ = R.generated(job, Path(a.cache) if a.cache else res / "cache")
         row = {"key": job["key"], "expected": job["expected"], "torque_noise_ar": job["torque_noise_ar"]}
         row |= oracle(g, R.true_params(job), float(job["torque_noise_ar"]))
         row["oracle_power"] = float(ncx2.sf(crit, 1, row["lam"]))
         row["verdict"] = runs.get(job["key"], {}).get("verdict")
+        if a.kept:
+            rep = diagnose(g.to_recording(), progress=False)
+            r0, val = np.asarray(rep.arrays.r0), np.asarray(rep.arrays.val)
+            kept = (r0 != 0) & ~val  # the training samples the fit kept (left-out samples carry r0 = 0)
+            row["n_kept"], row["lam_kept"] = int(kept.sum()), oracle(g, R.true_params(job), float(job["torque_noise_ar"]), rows=kept)["lam"]
+            row["oracle_power_kept"] = float(ncx2.sf(crit, 1, row["lam_kept"]))
+            # the fixed held-out phase, which confirms an attribution term: a fifth of the information
+            row["n_val"], row["lam_val"] = int(val.sum()), oracle(g, R.true_params(job), float(job["torque_noise_ar"]), rows=val)["lam"]
+            row["verdict_now"] = rep.verdict
         total += row["oracle_power"]
         rows += 1
         lines.append(json.dumps(row))
+        kept = (f" kept: lam {row['lam_kept']:.1f} power {row['oracle_power_kept']:.2f}, held-out phase lam "
+                f"{row['lam_val']:.1f}, verdict now {row['verdict_now']}"
+                if a.kept else "")
         print(f"{job['key']:48s} effect {row['effect_rms_over_noise']:.3f} left {row['left_rms_over_noise']:.3f} "
-              f"lam {row['lam']:8.1f} oracle power {row['oracle_power']:.2f} verdict {row['verdict']}", flush=True)
-    (out / f"oracle_{a.study}.jsonl").write_text("\n".join(lines) + "\n")
+              f"lam {row['lam']:8.1f} oracle power {row['oracle_power']:.2f} verdict {row['verdict']}{kept}", flush=True)
+    (out / f"oracle_{'kept_' if a.kept else ''}{a.study}.jsonl").write_text("\n".join(lines) + "\n")
     print(f"oracle: {total:.1f} of {rows} expected named")
 
 
