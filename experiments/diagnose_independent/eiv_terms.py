@@ -10,8 +10,8 @@ kinematics' errors. Each recording is diagnosed without the attribution's margin
 
 A term that stays with the generator's parameters but goes with exact kinematics is made by the
 kinematics' errors through the model, not by where the fit landed. ``step1_below_bar`` lists the
-candidates the naming test's first step finds significant each way (before the held-out test). Writes one line per recording
-and way to <out>/eiv_terms_<study>.jsonl and prints it.
+candidates the naming test's first step finds significant each way (before the held-out test).
+Writes one line per recording and way to <out>/eiv_terms_<study>.jsonl and prints it.
 
     python experiments/diagnose_independent/eiv_terms.py --study calib30 \\
         --only calib30_09_position_sine_pid_nff,calib30_17_sharp_steps_pi,calib30_21_position_sine_pid_nff

@@ -87,18 +87,20 @@ def tally(studies: list[str], power: float = 0.9) -> None:
     for study in studies:
         runs = {d["key"]: d for d in map(json.loads, (res / study / f"runs_{study}.jsonl").read_text().splitlines())}
         for o in map(json.loads, (res / study / f"oracle_{study}.jsonl").read_text().splitlines()):
-            if o["oracle_power"] >= power and o["key"] in runs:
+            run = runs.get(o["key"])
+            if o["oracle_power"] >= power and run is not None:
                 n += 1
-                hit += bool(runs[o["key"]]["correct"])
-                if not runs[o["key"]]["correct"]:
-                    print(f"missed: {o['key']} (oracle power {o['oracle_power']:.2f}, verdict {runs[o['key']]['verdict']})")
+                hit += bool(run["correct"])
+                if not run["correct"]:
+                    print(f"missed: {o['key']} (oracle power {o['oracle_power']:.2f}, verdict {run['verdict']})")
     print(f"rows an oracle finds with power >= {power}: {hit} of {n} exactly right")
 
 
 def main() -> None:
     if "--tally" in sys.argv:  # python oracle_power.py --tally outside10,outside11
         return tally(sys.argv[sys.argv.index("--tally") + 1].split(","))
-    a, res, out = R.study_cli(__doc__, ("--kept", {"action": "store_true", "help": "also over the samples the diagnosis keeps"}),
+    a, res, out = R.study_cli(__doc__,
+                              ("--kept", {"action": "store_true", "help": "also over the samples the diagnosis keeps"}),
                               ("--only", {"default": "", "help": "comma-separated keys (default: every effect row)"}))
     runs = {}
     if (res / f"runs_{a.study}.jsonl").exists():
@@ -111,26 +113,27 @@ def main() -> None:
             continue
         g, _ = R.generated(job, Path(a.cache) if a.cache else res / "cache")
         row = {"key": job["key"], "expected": job["expected"], "torque_noise_ar": job["torque_noise_ar"]}
-        row |= oracle(g, R.true_params(job), float(job["torque_noise_ar"]))
+        params, phi = R.true_params(job), float(job["torque_noise_ar"])
+        row |= oracle(g, params, phi)
         row["oracle_power"] = float(ncx2.sf(crit, 1, row["lam"]))
         row["verdict"] = runs.get(job["key"], {}).get("verdict")
         if a.kept:
             rep = diagnose(g.to_recording(), progress=False)
             r0, val = np.asarray(rep.arrays.r0), np.asarray(rep.arrays.val)
             kept = (r0 != 0) & ~val  # the training samples the fit kept (left-out samples carry r0 = 0)
-            row["n_kept"], row["lam_kept"] = int(kept.sum()), oracle(g, R.true_params(job), float(job["torque_noise_ar"]), rows=kept)["lam"]
+            row["n_kept"], row["lam_kept"] = int(kept.sum()), oracle(g, params, phi, rows=kept)["lam"]
             row["oracle_power_kept"] = float(ncx2.sf(crit, 1, row["lam_kept"]))
             # the fixed held-out phase, which confirms an attribution term: a fifth of the information
-            row["n_val"], row["lam_val"] = int(val.sum()), oracle(g, R.true_params(job), float(job["torque_noise_ar"]), rows=val)["lam"]
+            row["n_val"], row["lam_val"] = int(val.sum()), oracle(g, params, phi, rows=val)["lam"]
             row["verdict_now"] = rep.verdict
         total += row["oracle_power"]
         rows += 1
         lines.append(json.dumps(row))
-        kept = (f" kept: lam {row['lam_kept']:.1f} power {row['oracle_power_kept']:.2f}, held-out phase lam "
-                f"{row['lam_val']:.1f}, verdict now {row['verdict_now']}"
-                if a.kept else "")
+        more = (f" kept: lam {row['lam_kept']:.1f} power {row['oracle_power_kept']:.2f}, held-out phase lam "
+                f"{row['lam_val']:.1f}, verdict now {row['verdict_now']}" if a.kept else "")
         print(f"{job['key']:48s} effect {row['effect_rms_over_noise']:.3f} left {row['left_rms_over_noise']:.3f} "
-              f"lam {row['lam']:8.1f} oracle power {row['oracle_power']:.2f} verdict {row['verdict']}{kept}", flush=True)
+              f"lam {row['lam']:8.1f} oracle power {row['oracle_power']:.2f} verdict {row['verdict']}{more}",
+              flush=True)
     (out / f"oracle_{'kept_' if a.kept else ''}{a.study}.jsonl").write_text("\n".join(lines) + "\n")
     print(f"oracle: {total:.1f} of {rows} expected named")
 

@@ -1,10 +1,11 @@
 """The naming test's size on effect-free recordings, from committed study rows: per measured-sensor
-kind and torque-noise colour (white, or AR(1)), how often the first greedy step's smallest family-wise p-value (``p_family``, min-P over the
-candidates) is at or below the naming bar ``alpha/3``, against the bar itself, which is what the
-test's null promises; how often a raw p-value (one candidate) is at or below 0.05; and how often a
-candidate was finally named (after the plausibility, identifiability, held-out and rival checks).
-Binomial 95 % intervals (Clopper-Pearson, scipy) go with each share. Reads the studies'
-``runs_<study>.jsonl``; writes nothing.
+kind and torque-noise colour (white, or AR(1)), how often the first greedy step's smallest
+family-wise p-value (``p_family``, min-P over the candidates) is at or below the naming bar
+``alpha/3``, against the bar itself, which is what the test's null promises; how often a raw
+p-value (one candidate) is at or below 0.05; and how often a candidate was finally named (after
+the plausibility, identifiability, held-out and rival checks). Binomial 95 % intervals
+(Clopper-Pearson, scipy) go with each share. Reads the studies' ``runs_<study>.jsonl``; writes
+nothing.
 
     python experiments/diagnose_independent/step_size.py --studies calib46,calib47
 """
@@ -56,7 +57,8 @@ def main() -> None:
                 raw[kind] += [t["p_raw"] <= ALPHA for t in tests]
                 named[kind].append(any(c in r["verdict"] for c in CANDIDATES))
             if low:
-                flagged.append(f"{r['key']} ({sensors}, {colour}): " + ", ".join(t["name"] for t in low) + f"; verdict {r['verdict']}")
+                flagged.append(f"{r['key']} ({sensors}, {colour}): " + ", ".join(t["name"] for t in low)
+                               + f"; verdict {r['verdict']}")
     print(f"effect-free rows of {a.studies}; the naming bar alpha/3 = {ALPHA / 3:.4f}, a raw test's level {ALPHA}\n")
     print("| sensors, torque noise | step 1 below the bar (rows) | raw p <= 0.05 (tests) | named (rows) |")
     print("|---|---|---|---|")
