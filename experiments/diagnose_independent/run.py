@@ -3297,6 +3297,33 @@ def outside18_settings():
     rows and excitations on LUCID, TERSE and AMPLE, at drawn rates (250-780 Hz) and seeds 22900 + k."""
     return _outside_set("outside18_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT18_RECIPES, 22900)
 
+# calib48: the design of best_start (2abc6a8), frozen before its first run; every row white torque
+# noise with one sensor, the kind on which calib42-47's first naming step fell below the bar on 13 of
+# 33 (step_size.py); rates and torque noise drawn (numpy default_rng(4848): uniform(150, 900) Hz
+# rounded to 5, then uniform(0.03, 0.12) N*m), not chosen; three plants no earlier set used
+PLUMB = T.Plant(J=0.09, Fc=0.7, Fs=1.05, vs=0.04, sigma2=0.95, sigma0=175.0, sigma1=1.0)
+SLEEK = T.Plant(J=0.12, Fc=0.95, Fs=1.4, vs=0.05, sigma2=1.2, sigma0=220.0, sigma1=1.4)
+VIVID = T.Plant(J=0.065, Fc=0.5, Fs=0.8, vs=0.035, sigma2=0.7, sigma0=150.0, sigma1=0.8)
+_add_plants({"plumb": (PLUMB, T.VelocityPIController(kp=4.4, ki=26.0)),
+             "sleek": (SLEEK, T.VelocityPIController(kp=5.8, ki=35.0)),
+             "vivid": (VIVID, T.VelocityPIController(kp=3.2, ki=19.0))},
+            {"plumb": PidTuning(3.3, 0.002),
+             "sleek": PidTuning(3.0, 0.003),
+             "vivid": PidTuning(3.5, 0.002)})
+
+
+def calib48_settings(n: int = 24):
+    """A forty-eighth effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib41's) x both loops (the position PID without feedforward in every fourth
+    row), the position sensor alone in rows 0-11 and the velocity sensor alone in rows 12-23, white
+    torque noise in every row, on PLUMB, SLEEK and VIVID, at drawn rates 375-815 Hz and torque noise
+    0.044-0.117 N*m, velocity noise 0.003 or 0.006 deg/s, quantisation 0.0005 or 0.001 deg; seeds
+    23000 + i. It checks, held out, the naming test's size where calib42-47 found it high."""
+    return _effect_free_set("calib48", CALIB41_EXCITATIONS, ["plumb", "sleek", "vivid"],
+                            [(True, False), (False, True), (True, True)], [635.0, 375.0, 395.0, 815.0, 560.0],
+                            [0.044, 0.089, 0.117], [0.0, 0.0, 0.0, 0.0], [0.003, 0.006], [0.0005, 0.001],
+                            23000, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
 
 
 # each study's rows, fixed before its first run
@@ -3340,7 +3367,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3525,7 +3552,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
-               "outside18")
+               "outside18", "calib48")
 
 
 def main():
