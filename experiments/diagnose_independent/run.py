@@ -3297,6 +3297,7 @@ def outside18_settings():
     rows and excitations on LUCID, TERSE and AMPLE, at drawn rates (250-780 Hz) and seeds 22900 + k."""
     return _outside_set("outside18_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT18_RECIPES, 22900)
 
+
 # calib48: the design of best_start (2abc6a8), frozen before its first run; every row white torque
 # noise with one sensor, the kind on which calib42-47's first naming step fell below the bar on 13 of
 # 33 (step_size.py); rates and torque noise drawn (numpy default_rng(4848): uniform(150, 900) Hz
