@@ -34,19 +34,19 @@ WAYS = ("fitted", "generator", "true_kinematics")
 def _row(job, way: str, rep) -> dict:
     j = rep.to_json()
     floor = j["baseline"]["noise_floor_nm"]
+    # the diagnosis's rule: p_family <= alpha/3, with its tolerance for 2/120 against 0.05/3
+    bar = j["alpha"] / 3.0 * (1.0 + 1e-9)
     return {"key": job["key"], "way": way, "verdict": j["verdict"], "floor_nm": floor,
             "fit": j["baseline"]["fit"].get("result"),
             "terms": [{"signal": t["signal"], "share_of_floor": t["held_out_share_nm"] / floor,
                        "p_family": t["p_family"], "p_held_out": t["p_held_out"]} for t in j["attribution"]["terms"]],
             # every group significant on the training blocks, whether or not the held-out test kept it
-            # (the diagnosis's rule: p_family <= alpha/3, with its tolerance for 2/120 against 0.05/3)
             "significant": [{"signal": t["signal"], "p_family": t["p_family"]}
-                            for step in j["attribution"]["tests"] for t in step
-                            if t.get("p_family", 1.0) <= j["alpha"] / 3.0 * (1.0 + 1e-9)],
+                            for step in j["attribution"]["tests"] for t in step if t.get("p_family", 1.0) <= bar],
             # the candidates the naming test's first step finds significant (whatever the later checks)
             "step1_below_bar": [{"name": t["name"], "p_family": t["p_family"]}
                                 for t in (j["selection_log"][0]["tests"] if j["selection_log"] else [])
-                                if t.get("p_family", 1.0) <= j["alpha"] / 3.0 * (1.0 + 1e-9)]}
+                                if t.get("p_family", 1.0) <= bar]}
 
 
 def main() -> None:

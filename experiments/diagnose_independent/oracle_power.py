@@ -33,6 +33,7 @@ import numpy as np
 from scipy.stats import chi2, ncx2
 
 import run as R
+from plot import load
 from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig, baseline_from_params, diagnose, predict
 
 PARAMS = ("J", "Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1")  # the baseline's directions (delta is fixed)
@@ -85,7 +86,7 @@ def tally(studies: list[str], power: float = 0.9) -> None:
     res = Path(__file__).resolve().with_name("results")
     hit = n = 0
     for study in studies:
-        runs = {d["key"]: d for d in map(json.loads, (res / study / f"runs_{study}.jsonl").read_text().splitlines())}
+        runs = {d["key"]: d for d in load(res / study / f"runs_{study}.jsonl")}
         for o in map(json.loads, (res / study / f"oracle_{study}.jsonl").read_text().splitlines()):
             run = runs.get(o["key"])
             if o["oracle_power"] >= power and run is not None:

@@ -13,16 +13,16 @@ nothing.
 from __future__ import annotations
 
 import argparse
-import json
 from collections import defaultdict
 from pathlib import Path
 
 from scipy.stats import binomtest
 
-ALPHA = 0.05
-BAR = ALPHA / 3.0 * (1.0 + 1e-9)  # the diagnosis's rule, with its tolerance for 2/120 against 0.05/3
-CANDIDATES = ("position_ripple", "gravity", "asymmetry", "thermal_drift", "stribeck_shape", "backlash",
-              "compliance", "load_dependent")
+from lugre_jax.diagnose import CANDIDATES, DiagnoseConfig
+from plot import load
+
+ALPHA = DiagnoseConfig().alpha
+BAR = DiagnoseConfig().alpha_name * (1.0 + 1e-9)  # the diagnosis's rule, with its tolerance for 2/120 against 0.05/3
 
 
 def _share(k: int, n: int) -> str:
@@ -41,13 +41,10 @@ def main() -> None:
         path = res / study / f"runs_{study}.jsonl"
         if not path.exists():
             raise SystemExit(f"{path}: no such study results")
-        seen = set()
-        for line in path.read_text().splitlines():
-            r = json.loads(line)
+        for r in load(path):  # the first run of each recording
             tests = [t for t in r.get("step1_tests") or [] if "p_family" in t]
-            if r["key"] in seen or r.get("expected", "none") != "none" or not tests:
+            if r.get("expected", "none") != "none" or not tests:
                 continue
-            seen.add(r["key"])
             sensors = "+".join(s for s, on in (("position", r.get("position_column", True)),
                                                ("velocity", r.get("velocity_column", True))) if on)
             low = [t for t in tests if t["p_family"] <= BAR]
