@@ -6,9 +6,12 @@ Groups are added greedily, as the candidates are: each step tests every group's 
 ``||P_{G|B} r||^2`` (B: the current model's Jacobian columns and the groups already in) against the
 same simulated null as the candidates (:mod:`._calibrate`; the time line's frequency search
 repeated on every draw), family-wise by min-P at the attribution's share of alpha, and keeps the
-most significant group only if its least-squares term, fitted on the training blocks, lowers the
-held-out RMSE significantly (its held-out gain against the same gain on every null draw,
-:func:`held_out_gains`, at the same share of alpha). What smoothing the true motion leaves through
+most significant group only if its least-squares term lowers the held-out RMSE significantly:
+cross-validated over the block phases a candidate's held-out test crosses (:func:`cv_gains`), every
+group's held-out gain against the same gain on every null draw, family-wise by min-P over the
+groups at the same share of alpha. The group is chosen on the training blocks, which the
+cross-validation reuses; the min-P over all groups holds the test's level whichever group the
+choice took (each draw's largest gain is inside its minimum). What smoothing the true motion leaves through
 the model is held by the nuisance columns (the acceleration's blur where the friction changes fast:
 :func:`._condition.friction_smoothing_error`), so the calibrated tests alone decide; the held-out
 share ``sqrt(before^2 - after^2)`` is reported. The terms are linear in
@@ -218,47 +221,78 @@ def kinematic_lines(model, kin, t, r, rows, freqs, cond) -> np.ndarray | None:
     return lines[:, keep] if keep.any() else None
 
 
-def held_out_gains(base, X, E, rows, val) -> np.ndarray:
-    """The held-out statistic ``sum_val(r0^2 - r1^2)`` on every null draw (rows of ``E``, every
-    sample): ``r0`` the draw less its least-squares fit on the training ``rows`` by ``base``'s
-    columns (the current model's linearised refit and the terms already in), ``r1`` the same with
-    the term's columns ``X`` added. Its law under the null, for the recording's own noise colour,
-    kinematic errors and blocks, in place of a normal approximation with few validation blocks."""
-    r0 = _val_residual(base, E, rows, val)
-    return np.sum(r0 ** 2 - _val_residual(np.column_stack([base, X]), E, rows, val) ** 2, axis=0)
+def fold_masks(keep, blocks, folds) -> list:
+    """The samples of each cross-validated phase of ``folds`` among ``keep`` (one mask per phase)."""
+    phase = M.block_phase(blocks)
+    return [keep & (phase == j) for j in folds]
 
 
-def _val_residual(D, E, rows, val):
-    """Each draw (row of ``E``) less its least-squares fit on the training ``rows`` by ``D``'s
-    columns, on the held-out ``val`` samples (val x draws): one pseudo-inverse for every draw, with
-    lstsq's cutoff."""
-    P = np.linalg.pinv(D[rows], rcond=max(D[rows].shape) * np.finfo(float).eps)
-    return E[:, val].T - D[val] @ (P @ E[:, rows].T)
+def cv_gains(base, Xs, e, keep, folds_m) -> np.ndarray:
+    """Each term's cross-validated held-out gain on the residual ``e``: over the phases ``folds_m``
+    (masks within ``keep``), ``sum(r0^2 - r1^2)`` on each phase, ``r0`` its residual after
+    ``base``'s columns fitted on the other kept samples, ``r1`` the same with the term's columns
+    (one ``X`` of ``Xs``) added. Computed from each phase's cross-products, so that one pass over
+    the samples serves every term and phase; ``e`` may hold several residuals (n x m: gains
+    len(Xs) x m). The columns are put on unit norm and directions below 1e-6 of the largest
+    singular value dropped."""
+    A = np.column_stack([base] + list(Xs))
+    e = np.asarray(e, float)
+    E = e.reshape(e.shape[0], -1)
+    Ak = A[keep]
+    norm = np.sqrt(np.einsum("ij,ij->j", Ak, Ak))
+    norm[norm == 0] = 1.0
+    A, Ak = A / norm, Ak / norm
+    S, s = Ak.T @ Ak, Ak.T @ E[keep]
+    kb = base.shape[1]
+    ends = kb + np.cumsum([X.shape[1] for X in Xs])
+    idx = [np.arange(kb)] + [np.r_[np.arange(kb), np.arange(e1 - X.shape[1], e1)] for X, e1 in zip(Xs, ends)]
+    out = np.zeros((len(Xs), E.shape[1]))
+    for m in folds_m:
+        Am, Em = A[m], E[m]
+        Sm, sm, qm = Am.T @ Am, Am.T @ Em, np.einsum("ij,ij->j", Em, Em)
+        sse = [_fold_sse(S - Sm, s - sm, Sm, sm, qm, i) for i in idx]
+        out += sse[0] - np.asarray(sse[1:])
+    return out if e.ndim > 1 else out[:, 0]
 
 
-def _held_out(X, base, r, rows, val, blocks):
+def _fold_sse(Sf, sf, Sm, sm, qm, i) -> np.ndarray:
+    """Held-out sums of squares of one phase (cross-products ``Sm``, ``sm``, ``qm``; one per
+    residual) after the columns ``i`` fitted on the rest (``Sf``, ``sf``): a pseudo-inverse of
+    their Gram matrix."""
+    w, V = np.linalg.eigh(Sf[np.ix_(i, i)])
+    ok = w > max(float(w[-1]), 1e-300) * 1e-12
+    beta = V[:, ok] @ ((V[:, ok].T @ sf[i]) / w[ok][:, None])
+    return qm - 2.0 * np.sum(beta * sm[i], axis=0) + np.sum(beta * (Sm[np.ix_(i, i)] @ beta), axis=0)
+
+
+def cv_residual(D, r, keep, folds_m) -> np.ndarray:
+    """``r`` less ``D``'s columns fitted, for each phase of ``folds_m``, on the other kept
+    samples, on that phase (0 elsewhere): the residual :func:`cv_gains` scores."""
+    out = np.zeros_like(r)
+    for m in folds_m:
+        fit = keep & ~m
+        beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
+        out[m] = (r - D @ beta)[m]
+    return out
+
+
+def _held_out(X, base, r, rows, val):
     """The term ``X`` fitted on the training ``rows`` with the ``base`` columns (the model's
-    linearised refit and the terms already in), predicted on the held-out ``val``, against ``base``
-    alone fitted so (``r0``): (held-out RMSE, its statistic ``sum_val(r0^2 - (r - pred)^2)``, the
-    statistic :func:`held_out_gains` computes on every null draw, the analytic p, the prediction,
-    the coefficients). A model short of its least-squares optimum thus credits no term with its
-    own refit's gain."""
+    linearised refit and the terms already in): (its RMSE on the fixed held-out phase ``val``, the
+    prediction, the coefficients)."""
     Xall = np.column_stack([base, X])
     beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
     pred = Xall @ beta
-    r0 = r - base @ np.linalg.lstsq(base[rows], r[rows], rcond=None)[0]
-    new = float(np.sqrt(np.mean((r - pred)[val] ** 2)))
-    p_analytic = C.held_out_p(r0, r - pred, blocks, val)
-    d_obs = float(np.sum(r0[val] ** 2 - (r - pred)[val] ** 2))
-    return new, d_obs, p_analytic, pred, beta
+    return float(np.sqrt(np.mean((r - pred)[val] ** 2))), pred, beta
 
 
 @dataclasses.dataclass(frozen=True)
 class Attribution:
     """The terms found, in order: each group's name, labels, coefficients, units, reading, its
-    family-wise p-value and gain; the held-out RMSE before and after the terms (least squares on the
-    training blocks; on the fixed held-out phase, so ``before`` is ``Improved.fixed_phase_rmse_nm``,
-    not the cross-validated ``validation_rmse_nm``); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
+    family-wise p-value and gain; the held-out RMSE before and after the terms on the fixed
+    held-out phase (least squares on the training blocks, so ``before`` is
+    ``Improved.fixed_phase_rmse_nm``) and cross-validated over the phases the test crosses (the
+    terms with the model's linearised refit; ``cv_rmse_*``); ``tests``: every step's per-group statistics. ``fits`` and ``partials`` (per
     term, every sample): the term's torque in the joint least squares of all terms with the model's
     linearised refit on the training blocks, and the residual with that refit and the other terms
     taken out (a partial residual: what the term is fitted to, which its coefficient alone against
@@ -271,6 +305,8 @@ class Attribution:
     columns: tuple = dataclasses.field(default=(), repr=False, compare=False)  # each term's regressors (n x k)
     fits: tuple = dataclasses.field(default=(), repr=False, compare=False)
     partials: tuple = dataclasses.field(default=(), repr=False, compare=False)
+    cv_rmse_before_nm: float = float("nan")
+    cv_rmse_after_nm: float = float("nan")
 
     @property
     def found(self) -> bool:
@@ -283,7 +319,9 @@ class Attribution:
     def to_json(self) -> dict:
         return {"signals": self.signals, "terms": list(self.terms),
                 "validation_rmse_before_nm": self.validation_rmse_before_nm,
-                "validation_rmse_after_nm": self.validation_rmse_after_nm, "tests": list(self.tests)}
+                "validation_rmse_after_nm": self.validation_rmse_after_nm,
+                "cv_rmse_before_nm": self.cv_rmse_before_nm, "cv_rmse_after_nm": self.cv_rmse_after_nm,
+                "tests": list(self.tests)}
 
 
 # groups built from the acceleration's derivatives or magnitude: with derivatives of a quantised
@@ -311,17 +349,22 @@ def _line_frequency(t, r, mask, lines=None) -> float:
 
 def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alpha: float, window: int,
               max_terms: int = 2, seed: int = 0, nuisance=None, quantised_derivatives: bool = False,
-              at_floor_nm: float | None = None, motion=None, cond=None) -> Attribution:
+              at_floor_nm: float | None = None, motion=None, cond=None, keep=None, folds=()) -> Attribution:
     """Greedy, calibrated attribution of ``ctx.residual`` (module docstring); with
     ``quantised_derivatives`` the :data:`ACCELERATION_GROUPS` are left out. The time line is
     searched and fitted off the motion's lines ``motion`` (:func:`motion_lines`) that an error of
-    the kinematics conditioned as ``cond`` can explain (:func:`kinematic_lines`). Where the held-out
-    RMSE with a term stays above ``at_floor_nm`` (the at-floor bound) the residual holds misfit the
-    null draws do not describe, so the term's held-out p is the larger of the draws' and the
-    analytic one (which allows any colour). Every draw's columns are built from the kinematics its
-    residual was made through (:class:`._calibrate.Views`)."""
+    the kinematics conditioned as ``cond`` can explain (:func:`kinematic_lines`). A term is
+    confirmed on the phases ``folds`` of the kept samples ``keep`` (cross-validated, as a
+    candidate's held-out test; without them, on the fixed held-out phase ``val``). Where the
+    cross-validated RMSE with a term stays above ``at_floor_nm`` (the at-floor bound) the residual
+    holds misfit the null draws do not describe, so the term's held-out p is the larger of the
+    draws' and the analytic one (which allows any colour). Every draw's columns are built from the
+    kinematics its residual was made through (:class:`._calibrate.Views`)."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
+    keep = (rows | val) if keep is None else np.asarray(keep, bool)
+    folds_m = fold_masks(keep, blocks, folds) if folds else [val & keep]
+    cv_mask = np.any(folds_m, axis=0)
 
     def terms_on(k):
         return groups_on(model, ctx, k, window, quantised_derivatives)
@@ -351,10 +394,10 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
     after = before
     joint = None  # the last accepted step's fit: every chosen term with the refit columns
-    # a term is compared on the held-out blocks with the model's own linearised refit (its Jacobian
-    # and nuisance columns fitted on the training rows), as on every null draw (_held_out)
-    r0 = r - JB @ np.linalg.lstsq(JB[rows], r[rows], rcond=None)[0]
-    compared = float(np.sqrt(np.mean(r0[val] ** 2))) if val.any() else float("nan")
+    # a term is compared on held-out samples with the model's own linearised refit (its Jacobian
+    # and nuisance columns fitted on the other samples), as on every null draw
+    cv_before = _rms(cv_residual(JB, r, keep, folds_m), cv_mask)
+    cv_after = cv_before
     line_f = None
 
     def draw_chosen(d, cols):
@@ -373,8 +416,10 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             full = np.where(rows[:, None], _off_lines(full, lines, rows), 0.0)
             fb = _time_line_freqs(t, full.T, rows)
         # each draw: its own basis (the model's on its kinematics, the chosen terms' on them), its
-        # residual with that basis taken out, and every group's gain on it
+        # residual with that basis taken out, and every group's gain on it (training rows); and
+        # every group's cross-validated gain on the draw (its held-out law, below)
         T = np.zeros((n_draws, len(left) + (line_X is not None)))
+        T_cv = np.zeros_like(T)
         for d in range(n_draws):
             cols = columns(d)
             Qd = C._orth(np.column_stack([nb.Q(d)] + [X[rows] for X in draw_chosen(d, cols)])) if chosen \
@@ -382,8 +427,11 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             rd = Rn[:, d:d + 1]
             rd = rd - Qd @ (Qd.T @ rd) if chosen else rd
             T[d, :len(left)] = [C._gains(Qd, cols[i][rows], rd)[0] for i in left]
+            Xd = [cols[i] for i in left]
             if line_X is not None:
                 T[d, -1] = C._gains(Qd, line_at(fb[d])[rows], rd)[0]
+                Xd.append(line_at(fb[d]))
+            T_cv[d] = cv_gains(np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols)), Xd, E[d], keep, folds_m)
         cands = [groups[i] for i in left]
         obs = [float(C._gains(Q, X[rows], r[rows][:, None])[0]) for _, X in cands]
         idx = list(left)
@@ -401,35 +449,37 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         sig = np.flatnonzero(C.rejects(p_adj, alpha))
         if sig.size == 0:
             break
+        # the held-out test: every group's cross-validated gain against the same on every draw,
+        # family-wise by min-P over the groups, so that choosing the group on training blocks the
+        # cross-validation reuses costs nothing (the draws' own choice is inside their minimum)
+        base = np.column_stack([JB] + [Xc for _, Xc in chosen])
+        obs_cv = cv_gains(base, [X for _, X in cands], r, keep, folds_m)
+        _, p_cv, _ = C.min_p(obs_cv, T_cv, tail=C.normal_log_sf)
+        r0_cv = cv_residual(base, r, keep, folds_m)
         # as for the candidates: the significant groups in order of what they explain beyond their
-        # null, the first whose term holds up on the held-out blocks taken
+        # null, the first whose term holds up on the held-out samples taken
         excess = obs_a - obs_a / np.maximum(z, 1e-300)
         taken = None
-        base = np.column_stack([JB] + [Xc for _, Xc in chosen])
         for k in sig[np.argsort(-excess[sig])]:
             g, X = cands[k]
-            new, d_obs, p_analytic, pred, beta = _held_out(X, base, r, rows, val, blocks)
-            # its law on the draws, each with its own columns (and, for the time line, its own line)
-            d_null = np.empty(n_draws)
-            for d in range(n_draws):
-                cols = columns(d)
-                base_d = np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols))
-                X_d = cols[idx[k]] if idx[k] is not None else line_at(fb[d])
-                d_null[d] = held_out_gains(base_d, X_d, E[d:d + 1], rows, val)[0]
-            p_held = float((1.0 + np.sum(d_null >= d_obs)) / (n_draws + 1.0))
-            if at_floor_nm is not None and new > at_floor_nm:
+            r1_cv = cv_residual(np.column_stack([base, X]), r, keep, folds_m)
+            cv_new = _rms(r1_cv, cv_mask)
+            p_analytic = C.held_out_p(r0_cv, r1_cv, blocks, cv_mask)
+            p_held = float(p_cv[k])
+            if at_floor_nm is not None and cv_new > at_floor_nm:
                 p_held = max(p_held, p_analytic)
             # what the term removes from the held-out error, per sample (reported)
-            share = float(np.sqrt(max(compared ** 2 - new ** 2, 0.0)))
-            if new < min(after, compared) and C.rejects(p_held, alpha):
-                taken = int(k), g, X, new, p_held, p_analytic, pred, beta, share
+            share = float(np.sqrt(max(cv_after ** 2 - cv_new ** 2, 0.0)))
+            if cv_new < cv_after and C.rejects(p_held, alpha):
+                new, pred, beta = _held_out(X, base, r, rows, val)
+                taken = int(k), g, X, new, cv_new, p_held, p_analytic, pred, beta, share
                 break
             tests[-1].append({"rejected": g.name,
-                              "because": f"held-out RMSE {compared:.4g} -> {new:.4g}, p {p_held:.3g} "
+                              "because": f"cross-validated RMSE {cv_after:.4g} -> {cv_new:.4g}, p {p_held:.3g} "
                                          f"(analytic {p_analytic:.3g}), share {share:.3g}"})
         if taken is None:
             break
-        k, g, X, new, p_held, p_analytic, pred, beta, share = taken
+        k, g, X, new, cv_new, p_held, p_analytic, pred, beta, share = taken
         joint = r - pred, beta
         chosen.append((g, X))
         chosen_i.append(idx[k])
@@ -439,11 +489,17 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         coef = beta[nb_cols + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
                       "units": list(g.units), "reading": g.read(coef), "p_family": float(p_adj[k]),
-                      "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "p_held_out": p_held,
-                      "p_held_out_analytic": float(p_analytic), "held_out_share_nm": share})
-        after = compared = new
+                      "gain_nm2": float(obs[k]), "validation_rmse_nm": new, "cv_rmse_before_nm": cv_after,
+                      "cv_rmse_nm": cv_new, "p_held_out": p_held, "p_held_out_analytic": float(p_analytic),
+                      "held_out_share_nm": share})
+        after, cv_after = new, cv_new
     fits, partials = _partials(JB.shape[1], [X for _, X in chosen], *joint) if joint else ((), ())
-    return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen), fits, partials)
+    return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen), fits, partials,
+                       cv_before, cv_after)
+
+
+def _rms(r, mask) -> float:
+    return float(np.sqrt(np.mean(r[mask] ** 2))) if np.any(mask) else float("nan")
 
 
 def _partials(n_refit: int, Xs, resid, beta) -> tuple[tuple, tuple]:

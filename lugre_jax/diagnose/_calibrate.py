@@ -290,12 +290,23 @@ def rejects(p, alpha: float):
     return np.asarray(p) <= alpha * (1.0 + 1e-9)
 
 
-def min_p(obs: np.ndarray, T: np.ndarray):
+def normal_log_sf(x: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """``log P(G >= x)`` per column, ``G`` normal with the mean and standard deviation of the
+    column's null draws ``T`` (draws x tests): the scale of :func:`min_p` for statistics that can
+    be negative (a held-out gain). A column whose draws are all equal gets ``log 1 = 0``."""
+    m = np.mean(T, axis=0)
+    sd = np.std(T, axis=0, ddof=1) if T.shape[0] > 1 else np.zeros_like(m)
+    ok = sd > 0
+    return np.where(ok, stats.norm.logsf((x - m) / np.where(ok, sd, 1.0)), 0.0)
+
+
+def min_p(obs: np.ndarray, T: np.ndarray, tail=chi2_log_sf):
     """Raw and family-wise p-values of the observed statistics ``obs`` against null draws ``T``
     (draws x tests), and each statistic over its null mean (``standardised``, for the report).
 
     Family-wise control is Westfall-Young's min-P: every statistic, observed and drawn, is turned
-    into its tail probability under its own null (:func:`chi2_log_sf`), and a test's adjusted
+    into its tail probability under its own null (``tail``: :func:`chi2_log_sf` for gains, which are
+    never negative; :func:`normal_log_sf` for held-out gains), and a test's adjusted
     p-value is the share of draws whose smallest tail probability over all tests is at most its
     own. Tail probabilities, unlike gains over their null mean, weigh tests of different degrees of
     freedom alike: a one-column candidate's heavy relative tail does not set the bar for a
@@ -303,7 +314,7 @@ def min_p(obs: np.ndarray, T: np.ndarray):
     B = T.shape[0]
     p_raw = (1.0 + np.sum(T >= obs[None, :], axis=0)) / (B + 1.0)
     scale = np.maximum(np.mean(T, axis=0), 1e-300)
-    lp_obs, lp_null = chi2_log_sf(obs, T), chi2_log_sf(T, T)
+    lp_obs, lp_null = tail(obs, T), tail(T, T)
     p_adj = (1.0 + np.sum(np.min(lp_null, axis=1)[:, None] <= lp_obs[None, :], axis=0)) / (B + 1.0)
     return p_raw, np.maximum(p_adj, p_raw), obs / scale
 

@@ -184,8 +184,9 @@ def _plot_attribution(report, rec, keep, terms, columns, fits, partials, outdir,
         ax.set_title(f"{term['signal']}: {term['reading'].split(':')[0]}", fontsize=9)
         ax.legend(fontsize=7, loc="upper left")
     a = report.attribution
-    fig.suptitle(f"attribution: fixed held-out phase's RMSE {a['validation_rmse_before_nm']:.4g} -> "
-                 f"{a['validation_rmse_after_nm']:.4g} {u['torque']}", fontsize=10)
+    fig.suptitle(f"attribution: cross-validated RMSE {a.get('cv_rmse_before_nm', float('nan')):.4g} -> "
+                 f"{a.get('cv_rmse_after_nm', float('nan')):.4g} {u['torque']} (fixed held-out phase "
+                 f"{a['validation_rmse_before_nm']:.4g} -> {a['validation_rmse_after_nm']:.4g})", fontsize=10)
     path = Path(outdir) / "attribution.png"
     save_figure(fig, path)
     return str(path)

@@ -928,7 +928,8 @@ def _attribute(prep, split, floor, cfg, model, r, fit_offset, frozen):
                      split.val, split.blocks, floor.null, cfg.draws, cfg.alpha_attribute, window, cfg.max_terms,
                      seed=cfg.seed + 1000, nuisance=floor.known["nuisance"],
                      quantised_derivatives=_quantised_derivatives(prep.cond),
-                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond)
+                     at_floor_nm=cfg.at_floor * floor.floor_nm, motion=prep.lines, cond=prep.cond,
+                     keep=split.keep, folds=split.folds)
 
 
 def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
