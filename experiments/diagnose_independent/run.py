@@ -3326,6 +3326,43 @@ def calib48_settings(n: int = 24):
                             23000, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# calib49 and outside19: the design with the attribution's cross-validated, family-wise held-out
+# test, frozen before their first run; rates and torque noise drawn (numpy default_rng(4949):
+# uniform(150, 900) Hz rounded to 5, then uniform(0.03, 0.12) N*m; default_rng(19): uniform(200,
+# 800) Hz rounded to 5, rows a-h), not chosen; three plants no earlier set used
+MILD = T.Plant(J=0.1, Fc=0.8, Fs=1.2, vs=0.045, sigma2=1.0, sigma0=190.0, sigma1=1.2)
+PRIM = T.Plant(J=0.15, Fc=1.05, Fs=1.55, vs=0.055, sigma2=1.35, sigma0=240.0, sigma1=1.6)
+SWIFT = T.Plant(J=0.075, Fc=0.6, Fs=0.9, vs=0.04, sigma2=0.8, sigma0=160.0, sigma1=0.9)
+_add_plants({"mild": (MILD, T.VelocityPIController(kp=4.8, ki=29.0)),
+             "prim": (PRIM, T.VelocityPIController(kp=7.2, ki=43.0)),
+             "swift": (SWIFT, T.VelocityPIController(kp=3.6, ki=22.0))},
+            {"mild": PidTuning(3.2, 0.002),
+             "prim": PidTuning(2.9, 0.003),
+             "swift": PidTuning(3.4, 0.002)})
+
+
+def calib49_settings(n: int = 36):
+    """A forty-ninth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row) x the three sensor sets (position alone, velocity alone, both; 12 rows each), on
+    MILD, PRIM and SWIFT, at drawn rates 265-820 Hz and torque noise 0.065-0.087 N*m, white in half
+    the rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.003 or 0.006
+    deg/s, quantisation 0.0005 or 0.001 deg; seeds 23200 + i."""
+    return _effect_free_set("calib49", CALIB41_EXCITATIONS, ["mild", "prim", "swift"],
+                            [(True, False), (False, True), (True, True)], [265.0, 795.0, 480.0, 765.0, 820.0],
+                            [0.087, 0.073, 0.065], [0.0, 0.5, 0.0, 0.8], [0.003, 0.006], [0.0005, 0.001],
+                            23200, n, loops=("pid", "pi"), nff=3, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
+_OUT19_RECIPES = _outside14_on({"gritty": "mild", "sprightly": "prim", "stolid": "swift"},
+                               (450.0, 755.0, 365.0, 235.0, 385.0, 630.0, 670.0, 525.0))
+
+
+def outside19_settings():
+    """A nineteenth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on MILD, PRIM and SWIFT, at drawn rates (235-755 Hz) and seeds 23100 + k."""
+    return _outside_set("outside19_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT19_RECIPES, 23100)
+
 
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
@@ -3368,7 +3405,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib41": calib41_settings, "calib42": calib42_settings, "fresh39": fresh39_settings,
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
-            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings,
+            "calib49": calib49_settings, "outside19": outside19_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3553,7 +3591,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
-               "outside18", "calib48")
+               "outside18", "calib48", "calib49", "outside19")
 
 
 def main():
