@@ -372,8 +372,17 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     groups = terms_on(kin)
     lines = kinematic_lines(model, kin, t, r, rows, motion, cond)
 
+    # the lines' least squares on the training rows, solved once for every draw's time line
+    P_lines = (np.linalg.pinv(lines[rows], rcond=max(lines[rows].shape) * np.finfo(float).eps)
+               if lines is not None and lines.shape[1] else None)
+
+    def off_lines(X):
+        """:func:`_off_lines` on the training rows, with the lines' pseudo-inverse kept."""
+        X = np.atleast_2d(np.asarray(X, float).T).T
+        return X if P_lines is None else X - lines @ (P_lines @ X[rows])
+
     def line_at(f):
-        return _time_line(t, f, lines, rows)
+        return off_lines(_sincos(t, f))
 
     widths = np.cumsum([0] + [X.shape[1] for _, X in groups])
     nb = C.NullBasis(model, specs, kin, rows, null, n_draws, seed, nuisance)
@@ -398,10 +407,10 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     # and nuisance columns fitted on the other samples), as on every null draw
     cv_before = _rms(cv_residual(JB, r, keep, folds_m), cv_mask)
     cv_after = cv_before
-    line_f = None
+    line_X_chosen = None  # the chosen time line's columns (at the recording's frequency, every draw)
 
     def draw_chosen(d, cols):
-        return [cols[i] if i is not None else line_at(line_f) for i in chosen_i]
+        return [cols[i] if i is not None else line_X_chosen for i in chosen_i]
 
     for _ in range(max_terms):
         Q = C._orth(np.column_stack([QB] + [X[rows] for _, X in chosen])) if chosen else QB
@@ -413,7 +422,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             line_X = line_at(f_obs)
             full = np.zeros((r.size, n_draws))
             full[rows] = Rn
-            full = np.where(rows[:, None], _off_lines(full, lines, rows), 0.0)
+            full = np.where(rows[:, None], off_lines(full), 0.0)
             fb = _time_line_freqs(t, full.T, rows)
         # each draw: its own basis (the model's on its kinematics, the chosen terms' on them), its
         # residual with that basis taken out, and every group's gain on it (training rows); and
@@ -429,8 +438,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             T[d, :len(left)] = [C._gains(Qd, cols[i][rows], rd)[0] for i in left]
             Xd = [cols[i] for i in left]
             if line_X is not None:
-                T[d, -1] = C._gains(Qd, line_at(fb[d])[rows], rd)[0]
                 Xd.append(line_at(fb[d]))
+                T[d, -1] = C._gains(Qd, Xd[-1][rows], rd)[0]
             T_cv[d] = cv_gains(np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols)), Xd, E[d], keep, folds_m)
         cands = [groups[i] for i in left]
         obs = [float(C._gains(Q, X[rows], r[rows][:, None])[0]) for _, X in cands]
@@ -484,7 +493,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         chosen.append((g, X))
         chosen_i.append(idx[k])
         if idx[k] is None:
-            line_f = f_obs
+            line_X_chosen = line_X
         nb_cols = JB.shape[1]
         coef = beta[nb_cols + sum(Xc.shape[1] for _, Xc in chosen[:-1]):][: X.shape[1]]
         terms.append({"signal": g.name, "columns": list(g.labels), "coefficients": [float(c) for c in coef],
