@@ -311,7 +311,8 @@ def test_padded_compilation_leaves_every_sample_unchanged():
 def test_attribution_finds_an_actuator_lag():
     """A torque that reaches the joint through a 20-ms lag (outside the eight candidates), on a
     staircase at 200 Hz with noise 0.08 N*m: 'unexplained', attributed to the torque's rate with a
-    coefficient of the lag's order (0.5-1.5 x 20 ms) and a lower held-out RMSE."""
+    coefficient of the lag's order (0.5-1.5 x 20 ms) and a lower cross-validated held-out RMSE, which the
+    report's words give."""
     import lugre_jax
     from lugre_jax import testing as T
     from lugre_jax.diagnose import diagnose
@@ -324,7 +325,9 @@ def test_attribution_finds_an_actuator_lag():
     a = rep.attribution
     assert a["signals"][0] == "torque_rate", a
     assert 0.5 * 0.02 < a["terms"][0]["coefficients"][0] < 1.5 * 0.02, a["terms"][0]
-    assert a["validation_rmse_after_nm"] < a["validation_rmse_before_nm"]
+    assert a["cv_rmse_after_nm"] < a["cv_rmse_before_nm"]
+    words = rep.missing_physics[-1].explanation
+    assert f"from {a['cv_rmse_before_nm']:.4g} to {a['cv_rmse_after_nm']:.4g} N*m" in words, words
 
 
 def _cli(*args, cwd=None):

@@ -978,7 +978,10 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     if remaining or attribution.found:
         words = ("Residual structure remains" + (" where listed" if remaining else "")
                  + ", and no candidate in the library explains it with a validated improvement."
-                 + (" It follows: " + "; ".join(f"{t['signal']} ({t['reading']})" for t in attribution.terms) + "."
+                 + (" It follows: " + "; ".join(f"{t['signal']} ({t['reading']})" for t in attribution.terms)
+                    + f"; with the term{'s' if len(attribution.terms) > 1 else ''} the held-out RMSE, "
+                    f"cross-validated, goes from {attribution.cv_rmse_before_nm:.4g} to "
+                    f"{attribution.cv_rmse_after_nm:.4g} {rec.units['torque']}."
                     if attribution.found else ""))
         missing.append(Finding(name="unexplained", explanation=words,
                                params={"regions": [x.to_json() for x in remaining[:10]],
