@@ -3363,6 +3363,20 @@ def outside19_settings():
     rows and excitations on MILD, PRIM and SWIFT, at drawn rates (235-755 Hz) and seeds 23100 + k."""
     return _outside_set("outside19_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT19_RECIPES, 23100)
 
+# fresh43: the design of b17e381 (the attribution confirmed cross-validated, family-wise), frozen
+# before its first run; rates and variations drawn as fresh41's (numpy default_rng(43)), not chosen;
+# fresh3's plants; fresh3's even rows only (12, every effect at least once: a run that fits a stop)
+_F43_FS = {"a": 675.0, "b": 280.0, "c": 265.0, "d": 795.0, "e": 630.0, "f": 395.0, "g": 740.0, "h": 420.0,
+           "i": 525.0}
+_F43_VARIED = _varied(-0.3077, 1.2299, 2.4624)
+
+
+def fresh43_settings():
+    """A fresh set (issues #30 and #31), fixed and committed before its first run: fresh3's even effect
+    rows (12: all eight effects) at 265-795 Hz (by recipe, drawn), seeds 23300 + k, with the gravity's
+    phase, the asymmetry's sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh43", _F43_FS, _F43_VARIED, 23300)[::2]
+
 
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
@@ -3406,7 +3420,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside16": outside16_settings, "calib43": calib43_settings, "fresh40": fresh40_settings,
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
             "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings,
-            "calib49": calib49_settings, "outside19": outside19_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
+            "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
 def jobs(study: str, seeds, strengths):
@@ -3591,7 +3605,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
-               "outside18", "calib48", "calib49", "outside19")
+               "outside18", "calib48", "calib49", "outside19", "fresh43")
 
 
 def main():
