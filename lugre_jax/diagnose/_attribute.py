@@ -267,12 +267,14 @@ def _fold_sse(Sf, sf, Sm, sm, qm, i) -> np.ndarray:
 
 def cv_residual(D, r, keep, folds_m) -> np.ndarray:
     """``r`` less ``D``'s columns fitted, for each phase of ``folds_m``, on the other kept
-    samples, on that phase (0 elsewhere): the residual :func:`cv_gains` scores."""
+    samples, on that phase (0 elsewhere): the residual :func:`cv_gains` scores. ``D`` may be a
+    function of the fit's samples (columns that are themselves chosen on them)."""
     out = np.zeros_like(r)
     for m in folds_m:
         fit = keep & ~m
-        beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
-        out[m] = (r - D @ beta)[m]
+        Dm = D(fit) if callable(D) else D
+        beta, *_ = np.linalg.lstsq(Dm[fit], r[fit], rcond=None)
+        out[m] = (r - Dm @ beta)[m]
     return out
 
 
@@ -400,7 +402,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
     chosen_i: list = []  # library index of each chosen group (None: the time line, at its frequency)
     tests = []
     terms = []
-    before = float(np.sqrt(np.mean(r[val] ** 2))) if val.any() else float("nan")
+    before = _rms(r, val)
     after = before
     joint = None  # the last accepted step's fit: every chosen term with the refit columns
     # a term is compared on held-out samples with the model's own linearised refit (its Jacobian
@@ -424,23 +426,20 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
             full[rows] = Rn
             full = np.where(rows[:, None], off_lines(full), 0.0)
             fb = _time_line_freqs(t, full.T, rows)
+        def draw_groups(d, cols):
+            """Draw ``d``'s columns of the groups left (its time line at its own frequency)."""
+            return [cols[i] for i in left] + ([line_at(fb[d])] if line_X is not None else [])
+
         # each draw: its own basis (the model's on its kinematics, the chosen terms' on them), its
-        # residual with that basis taken out, and every group's gain on it (training rows); and
-        # every group's cross-validated gain on the draw (its held-out law, below)
+        # residual with that basis taken out, and every group's gain on it (training rows)
         T = np.zeros((n_draws, len(left) + (line_X is not None)))
-        T_cv = np.zeros_like(T)
         for d in range(n_draws):
             cols = columns(d)
             Qd = C._orth(np.column_stack([nb.Q(d)] + [X[rows] for X in draw_chosen(d, cols)])) if chosen \
                 else nb.Q(d)
             rd = Rn[:, d:d + 1]
             rd = rd - Qd @ (Qd.T @ rd) if chosen else rd
-            T[d, :len(left)] = [C._gains(Qd, cols[i][rows], rd)[0] for i in left]
-            Xd = [cols[i] for i in left]
-            if line_X is not None:
-                Xd.append(line_at(fb[d]))
-                T[d, -1] = C._gains(Qd, Xd[-1][rows], rd)[0]
-            T_cv[d] = cv_gains(np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols)), Xd, E[d], keep, folds_m)
+            T[d] = [C._gains(Qd, X[rows], rd)[0] for X in draw_groups(d, cols)]
         cands = [groups[i] for i in left]
         obs = [float(C._gains(Q, X[rows], r[rows][:, None])[0]) for _, X in cands]
         idx = list(left)
@@ -461,6 +460,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         # the held-out test: every group's cross-validated gain against the same on every draw,
         # family-wise by min-P over the groups, so that choosing the group on training blocks the
         # cross-validation reuses costs nothing (the draws' own choice is inside their minimum)
+        T_cv = np.array([cv_gains(np.column_stack([nb.JB_at(d)] + draw_chosen(d, cols)), draw_groups(d, cols),
+                                  E[d], keep, folds_m) for d, cols in ((d, columns(d)) for d in range(n_draws))])
         base = np.column_stack([JB] + [Xc for _, Xc in chosen])
         obs_cv = cv_gains(base, [X for _, X in cands], r, keep, folds_m)
         _, p_cv, _ = C.min_p(obs_cv, T_cv, tail=C.normal_log_sf)
@@ -538,18 +539,12 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
     JB = C.jacobian(model, specs, kin, np.ones(n, bool))
     if nuisance is not None:
         JB = np.column_stack([JB, np.asarray(nuisance, float).reshape(n, -1)])
-    phase = M.block_phase(blocks)
+    folds_m = fold_masks(keep, blocks, folds)
     lines = kinematic_lines(model, kin, t, r, keep, motion, cond)
-    out = []
-    for g, X in groups:
-        cv = np.zeros(n)
-        for j in folds:
-            fold = keep & (phase == j)
-            fit = keep & ~fold
-            # the time line: its frequency searched, and its columns fitted off the lines, on each fold's fit
-            Xj = X if X is not None else _time_line(t, _line_frequency(t, r, fit, lines), lines, fit)
-            D = np.column_stack([JB, Xj])
-            beta, *_ = np.linalg.lstsq(D[fit], r[fit], rcond=None)
-            cv[fold] = (r - D @ beta)[fold]
-        out.append((g, cv))
-    return out
+
+    def time_line(fit):
+        # its frequency searched, and its columns fitted off the lines, on each fold's fit
+        return np.column_stack([JB, _time_line(t, _line_frequency(t, r, fit, lines), lines, fit)])
+
+    return [(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m))
+            for g, X in groups]
