@@ -138,8 +138,8 @@ def new_study_tables(out, suffix="", studies=("calib", "fresh3", "outside")):
                   f"(samples: median {int(np.median([r['n_samples'] for r in rows]))}, max "
                   f"{max(r['n_samples'] for r in rows)})", "",
                   "| key | plant | loop | excitation | fs | sensors | noise (AR) | peak / noise | expected | verdict | "
-                  "floor / true noise | val. RMSE before -> after | dependence reported | s |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "floor / true noise | val. RMSE before -> after | dependence reported | its CV RMSE before -> after | s |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sorted(rows, key=lambda r: r["key"]):
             sensors = "+".join(k for k, on in (("pos", r.get("position_column", True)), ("vel", r["velocity_column"])) if on)
             exp = (r["expected"] + (f" ({r['expected_dependence']})" if r.get("expected_dependence") else "")
@@ -147,10 +147,14 @@ def new_study_tables(out, suffix="", studies=("calib", "fresh3", "outside")):
             before, after = r.get("baseline_val_rmse"), r.get("improved_val_rmse")
             rmse = f"{before:.4f} -> {after:.4f}" if before is not None and after is not None else "-"
             peak = r.get("peak_over_noise")
+            # the attribution's terms are not in the named model: their own held-out change
+            att = r.get("attribution") if isinstance(r.get("attribution"), dict) else {}
+            cv = (f"{att['cv_rmse_before_nm']:.4f} -> {att['cv_rmse_after_nm']:.4f}"
+                  if att.get("terms") and "cv_rmse_after_nm" in att else "-")
             lines.append(f"| {r['key']} | {r['plant']} | {r.get('controller', 'pi')} | {r['excitation']} | {r['fs']:.0f} | "
                          f"{sensors} | {r['torque_noise']} ({r.get('torque_noise_ar', 0.0):g}) | "
                          f"{'-' if peak is None else f'{peak:.2f}'} | {exp} | {r['verdict']} | "
-                         f"{r['floor_over_true_noise']:.3f} | {rmse} | {_dependence(r)} | {r['seconds_diagnose']:.0f} |")
+                         f"{r['floor_over_true_noise']:.3f} | {rmse} | {_dependence(r)} | {cv} | {r['seconds_diagnose']:.0f} |")
         lines.append("")
     return lines
 
