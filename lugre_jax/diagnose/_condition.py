@@ -552,7 +552,8 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     ``cfg``: the diagnosis's settings (the torque-noise estimate's ``colour_chi2`` and
     ``outlier_std``, ``resolved_share``; default :class:`DiagnoseConfig`).
 
-    Unresolved samples: where the per-sample smoothing-bias bound exceeds
+    Unresolved samples: where the per-sample smoothing-bias bound, or the acceleration's
+    significant change from a narrower window (:func:`_sharper_than_window`), exceeds
     ``cfg.resolved_share`` of the torque noise (widened by the window), and, with a velocity column,
     sharp transients the sampling cannot resolve (:func:`unresolved_transients`).
     """
@@ -611,13 +612,16 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
                   position_noise=float(sp), quantisation=q, accel_noise=float(sig_a), velocity_measured=vel_meas,
                   position_measured=pos_meas)
     v, a, th = conditioned_kinematics(t, rec.position, rec.velocity, source, W, order)
+    _, sig_src, dv_src, x_src = next(s_ for s_ in sources if s_[0] == source)
     # per-sample bound on the torque the smoothing bias can leave in the residual (for the tests'
     # margins): J0 times a third of the change of the acceleration from W to 2W-1
     bias_nm = np.abs(J0 * (a - a2)) / 3.0
     # only where the change from W to 2W-1 is above its own noise: with noisy kinematics the
     # difference is mostly noise, which the floor's errors-in-variables part already counts
     significant = np.abs(a - a2) > 3.0 * sig_d
-    bad = maximum_filter1d(((bias_nm > cfg.resolved_share * st) & significant).astype(np.int8), W) > 0
+    bad = ((bias_nm > cfg.resolved_share * st) & significant) | _sharper_than_window(
+        t, x_src, dv_src, sig_src, W, order, J0, cfg.resolved_share * st, cfg.alpha)
+    bad = maximum_filter1d(bad.astype(np.int8), W) > 0
     if vel_meas:
         bad |= sharp
     if source == "position" and q > 0:
@@ -740,6 +744,38 @@ def velocity_path(t, position, velocity) -> np.ndarray:
     iv = np.concatenate([[0.0], cumulative_trapezoid(np.asarray(velocity, float), t)])
     n_lp = max(1, int(4.0 / float(np.median(np.diff(t))))) | 1
     return iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
+
+
+def _sharper_than_window(t, x, dv: int, sig: float, W: int, order: int, J0: float, share_nm: float,
+                         alpha: float) -> np.ndarray:
+    """Samples whose acceleration the window ``W`` smooths by more than ``share_nm`` of torque
+    (through ``J0``), seen against narrower windows (``W`` halved down to 5 samples): where the
+    change from a narrower window exceeds its own noise at a family-wise ``alpha`` over the
+    recording's samples and those windows (Bonferroni over ``n/w`` independent stretches per window
+    ``w``, two-sided). The change from W to 2W-1 misses a motion sharper than either window (a step
+    the loop makes in a few samples: both windows smear it nearly alike, while the truth differs
+    from both by many times the noise); a narrower window resolves it at more noise, so only a
+    change beyond that noise counts. ``x``: the source signal, ``dv`` its derivative order below the
+    velocity, ``sig`` its per-sample noise (white)."""
+    from scipy.stats import norm
+
+    dt = float(np.median(np.diff(t)))
+    ws = []
+    w = W
+    while (w := (w // 2) | 1) >= max(5, order + 2):
+        ws.append(w)
+    out = np.zeros(np.shape(x), bool)
+    if not ws:
+        return out
+    z = float(norm.isf(alpha / 2.0 / sum(len(x) / w for w in ws)))
+    hW = savgol_coeffs(W, order, deriv=dv + 1, delta=dt)
+    aW = savgol_filter(x, W, order, deriv=dv + 1, delta=dt)
+    for w in ws:
+        change = aW - savgol_filter(x, w, order, deriv=dv + 1, delta=dt)
+        noise = sig * float(np.linalg.norm(hW - np.pad(savgol_coeffs(w, order, deriv=dv + 1, delta=dt),
+                                                        (W - w) // 2)))
+        out |= (J0 * np.abs(change) > share_nm) & (np.abs(change) > z * noise)
+    return out
 
 
 def window_change(W: int, order: int, deriv: int, dt: float) -> np.ndarray:

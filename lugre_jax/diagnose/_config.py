@@ -79,7 +79,9 @@ class DiagnoseConfig:
     - ``min_resolved`` (100): resolved training samples a baseline fit needs (about ten parameters).
     - ``resolved_share`` (0.5): a sample's kinematics count as resolved where the smoothing-bias bound
       there (a third of the change of the acceleration, or of the whole model torque, from the window
-      W to 2W-1) is below this share of the torque noise; elsewhere (a sharp transient seen through a
+      W to 2W-1; and the acceleration's change from each narrower window W/2, W/4, ... down to 5
+      samples, where it is beyond that change's noise at ``alpha`` family-wise) is below this share
+      of the torque noise; elsewhere (a sharp transient seen through a
       long window) the torque is not known from the samples, and the sample leaves the fit, the
       validation and the tests. The same share bounds a held-out sample's prediction error (its
       leverage under the training blocks) and the model torque's third differences kept out of the
