@@ -273,9 +273,20 @@ def cv_residual(D, r, keep, folds_m) -> np.ndarray:
     for m in folds_m:
         fit = keep & ~m
         Dm = D(fit) if callable(D) else D
-        beta, *_ = np.linalg.lstsq(Dm[fit], r[fit], rcond=None)
-        out[m] = (r - Dm @ beta)[m]
+        out[m] = (r - Dm @ _lstsq(Dm, r, fit))[m]
     return out
+
+
+def _lstsq(A, r, rows) -> np.ndarray:
+    """Least squares of ``r`` on ``A``'s columns over ``rows``, as :func:`cv_gains` fits: the columns
+    on unit norm over those rows and directions below 1e-6 of the largest singular value dropped (a
+    column nearly empty on the fit's samples would otherwise take a coefficient that the held-out
+    samples, where it is not empty, turn into an error of any size)."""
+    Ar = A[rows]
+    norm = np.sqrt(np.einsum("ij,ij->j", Ar, Ar))
+    norm[norm == 0] = 1.0
+    beta, *_ = np.linalg.lstsq(Ar / norm, r[rows], rcond=1e-6)
+    return beta / norm
 
 
 def _held_out(X, base, r, rows, val):
@@ -283,7 +294,7 @@ def _held_out(X, base, r, rows, val):
     linearised refit and the terms already in): (its RMSE on the fixed held-out phase ``val``, the
     prediction, the coefficients)."""
     Xall = np.column_stack([base, X])
-    beta, *_ = np.linalg.lstsq(Xall[rows], r[rows], rcond=None)
+    beta = _lstsq(Xall, r, rows)
     pred = Xall @ beta
     return float(np.sqrt(np.mean((r - pred)[val] ** 2))), pred, beta
 
