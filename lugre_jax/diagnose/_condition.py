@@ -641,8 +641,9 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
         # rate) has no window whose change measures its bias; the data decide between it and the
         # chosen window by the information each leaves: its resolved samples over the inverse
         # model's mean squared residual on them (docs/diagnosis.md)
-        ms_rec = _inverse_residual_ms(rec.velocity, rec.acceleration, rec.torque, ~sharp)
-        ms_win = _inverse_residual_ms(v, a, rec.torque, ~bad)
+        both = ~sharp & ~bad
+        ms_rec = _inverse_residual_ms(rec.velocity, rec.acceleration, rec.torque, both)
+        ms_win = _inverse_residual_ms(v, a, rec.torque, both)
         use_recording = (~sharp).mean() / ms_rec > (~bad).mean() / ms_win
     if use_recording:
         sig_a = hf_noise_std(rec.acceleration)
@@ -805,8 +806,11 @@ def friction_smoothing_error(t, friction, cond: "Conditioning") -> np.ndarray:
 
     t = np.asarray(t, float)
     f = np.asarray(friction, float)
-    v = np.concatenate([[0.0], cumulative_trapezoid(f, t)])
-    theta = np.concatenate([[0.0], cumulative_trapezoid(v, t)])
+    # on the uniform grid the conditioning's filters assume (its median step): a gap in the time
+    # stamps (chained runs) would otherwise integrate the friction over the gap into a jump
+    tu = t[0] + float(np.median(np.diff(t))) * np.arange(t.size)
+    v = np.concatenate([[0.0], cumulative_trapezoid(f, tu)])
+    theta = np.concatenate([[0.0], cumulative_trapezoid(v, tu)])
     return conditioned_kinematics(t, theta, v, cond.source, cond.window, cond.order, cond.blend)[1] - f
 
 
