@@ -3652,7 +3652,6 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44")
 
 
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--study", choices=("null", "issue", "proof", "heldout", "fresh") + NEW_STUDIES, required=True)

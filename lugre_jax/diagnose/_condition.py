@@ -620,7 +620,7 @@ def condition(rec, J0: float, s2_0: float, max_window_s: float = 0.3, choices=No
     # difference is mostly noise, which the floor's errors-in-variables part already counts
     significant = np.abs(a - a2) > 3.0 * sig_d
     bad = ((bias_nm > cfg.resolved_share * st) & significant) | _sharper_than_window(
-        t, x_src, dv_src, sig_src, W, order, J0, cfg.resolved_share * st, cfg.alpha)
+        t, x_src, a, dv_src, sig_src, W, order, J0, cfg.resolved_share * st, cfg.alpha)
     bad = maximum_filter1d(bad.astype(np.int8), W) > 0
     if vel_meas:
         bad |= sharp
@@ -747,7 +747,7 @@ def velocity_path(t, position, velocity) -> np.ndarray:
     return iv + uniform_filter1d(pos - iv, min(n_lp, (pos.size // 2) | 1), mode="nearest")
 
 
-def _sharper_than_window(t, x, dv: int, sig: float, W: int, order: int, J0: float, share_nm: float,
+def _sharper_than_window(t, x, a, dv: int, sig: float, W: int, order: int, J0: float, share_nm: float,
                          alpha: float) -> np.ndarray:
     """Samples whose acceleration the window ``W`` smooths by more than ``share_nm`` of torque
     (through ``J0``), seen against narrower windows (``W`` halved down to 5 samples): where the
@@ -756,8 +756,8 @@ def _sharper_than_window(t, x, dv: int, sig: float, W: int, order: int, J0: floa
     ``w``, two-sided). The change from W to 2W-1 misses a motion sharper than either window (a step
     the loop makes in a few samples: both windows smear it nearly alike, while the truth differs
     from both by many times the noise); a narrower window resolves it at more noise, so only a
-    change beyond that noise counts. ``x``: the source signal, ``dv`` its derivative order below the
-    velocity, ``sig`` its per-sample noise (white)."""
+    change beyond that noise counts. ``x``: the source signal, ``a`` its acceleration at ``W`` (no
+    blend), ``dv`` its derivative order below the velocity, ``sig`` its per-sample noise (white)."""
     from scipy.stats import norm
 
     dt = float(np.median(np.diff(t)))
@@ -769,22 +769,21 @@ def _sharper_than_window(t, x, dv: int, sig: float, W: int, order: int, J0: floa
     if not ws:
         return out
     z = float(norm.isf(alpha / 2.0 / sum(len(x) / w for w in ws)))
-    hW = savgol_coeffs(W, order, deriv=dv + 1, delta=dt)
-    aW = savgol_filter(x, W, order, deriv=dv + 1, delta=dt)
     for w in ws:
-        change = aW - savgol_filter(x, w, order, deriv=dv + 1, delta=dt)
-        noise = sig * float(np.linalg.norm(hW - np.pad(savgol_coeffs(w, order, deriv=dv + 1, delta=dt),
-                                                        (W - w) // 2)))
+        change = a - savgol_filter(x, w, order, deriv=dv + 1, delta=dt)
+        noise = sig * float(np.linalg.norm(window_change(W, order, dv + 1, dt, w)))
         out |= (J0 * np.abs(change) > share_nm) & (np.abs(change) > z * noise)
     return out
 
 
-def window_change(W: int, order: int, deriv: int, dt: float) -> np.ndarray:
-    """Coefficients of the change of a Savitzky-Golay derivative (order ``deriv``) from the window
-    ``W`` to ``2W-1``: white noise of std ``sig`` on the input moves that change by
-    ``sig * ||h||``."""
-    return np.pad(savgol_coeffs(W, order, deriv=deriv, delta=dt), (W - 1) // 2) \
-        - savgol_coeffs(2 * W - 1, order, deriv=deriv, delta=dt)
+def window_change(W: int, order: int, deriv: int, dt: float, other: int | None = None) -> np.ndarray:
+    """Coefficients of the change of a Savitzky-Golay derivative (order ``deriv``) between the window
+    ``W`` and ``other`` (default ``2W-1``; wider or narrower, the shorter padded): white noise of
+    std ``sig`` on the input moves that change by ``sig * ||h||``."""
+    other = 2 * W - 1 if other is None else other
+    n = max(W, other)
+    h = [np.pad(savgol_coeffs(w, order, deriv=deriv, delta=dt), (n - w) // 2) for w in (W, other)]
+    return h[0] - h[1]
 
 
 def wider_acceleration(t, position, velocity, source: str, W: int, order: int = 3) -> np.ndarray:
