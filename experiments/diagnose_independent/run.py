@@ -3421,6 +3421,21 @@ def fresh44_settings():
     return _refreshed("fresh44", _F44_FS, _F44_VARIED, 23500)[1::2]
 
 
+# fresh45: the design of 122505c (the narrower windows' check, the attribution's held-out fits with
+# cv_gains' rank cut, a supplied acceleration compared where both resolve), frozen before its first
+# run; rates and variations drawn as fresh41's (numpy default_rng(45)), not chosen; fresh3's plants;
+# all 24 of fresh3's effect rows
+_F45_FS = {"a": 625.0, "b": 595.0, "c": 745.0, "d": 780.0, "e": 580.0, "f": 755.0, "g": 765.0, "h": 635.0,
+           "i": 515.0}
+_F45_VARIED = _varied(1.0762, 1.0824, 2.1368)
+
+
+def fresh45_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 515-780 Hz (by recipe, drawn), seeds 23600 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh45", _F45_FS, _F45_VARIED, 23600)
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3464,6 +3479,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
             "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings,
             "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "calib50": calib50_settings, "fresh44": fresh44_settings,
+            "fresh45": fresh45_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3649,7 +3665,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
-               "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44")
+               "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45")
 
 
 def main():
