@@ -3,8 +3,10 @@ drive's constant-velocity runs, in the order they were recorded (EPOS ``Date:`` 
 into one recording.
 
 The files carry velocity and torque only (19.5 Hz, 500 samples per run). Position is the running
-integral of the measured velocity (trapezoid, chained across runs); acceleration is zero (each run
-holds one set-point: the protocol is steady state); the baseline is the static Stribeck law
+integral of the measured velocity (trapezoid, chained across runs), marked not measured, so that the
+kinematics are conditioned from the velocity (an integral's noise is a random walk, not the white
+per-sample noise the conditioning assumes of a position sensor); acceleration is zero (each run holds
+one set-point: the protocol is steady state); the baseline is the static Stribeck law
 (``friction="stribeck"``, eq. 10), since steady-state runs carry no pre-sliding dynamics, with an
 offset. What the tool can see here: asymmetry, drift over the session, position ripple (screw lead),
 a Stribeck shape; it must not claim dynamics (compliance, backlash, load dependence) it cannot see.
@@ -61,7 +63,7 @@ def chained(folder: Path):
     # the zero acceleration is this script's assumption (constant-velocity runs), not a signal that
     # came with the data, so the diagnosis may condition the kinematics from the samples instead
     rec = recording_from_arrays(t, pos, v, y, acceleration=np.zeros_like(t), source=str(folder),
-                                meta={"acceleration_supplied": False})
+                                meta={"acceleration_supplied": False, "position_measured": False})
     return rec, names
 
 

@@ -178,6 +178,11 @@ def _plot_attribution(report, rec, keep, terms, columns, fits, partials, outdir,
                 label="discovered term (joint fit): " + " + ".join(f"{b:.3g}*{lab}" for b, lab in
                                                                   zip(coef, term["columns"])))
         ax.set_ylim(np.percentile(r[keep], [0.5, 99.5]) * 1.2)
+        if X.shape[1] == 1:
+            # a derivative's few extreme samples (a reversal's jerk) would squeeze the bins to a line
+            lo, hi = np.percentile(x[keep], [0.5, 99.5])
+            ax.set_xlim(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
+            xlabel += " (central 99 % of samples)"
         ax.axhline(0, color="k", lw=0.5)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(f"partial residual [{u['torque']}]")
