@@ -3436,6 +3436,34 @@ def fresh45_settings():
     sign and the ripple's period and phase changed by drawn amounts."""
     return _refreshed("fresh45", _F45_FS, _F45_VARIED, 23600)
 
+# calib51: the design of 39f623d (as 122505c's for verdicts), frozen before its first run; three plants
+# no earlier set used, their parameters drawn (numpy default_rng(51): J uniform(0.06, 0.18), Fc
+# uniform(0.5, 1.2), Fs/Fc uniform(1.3, 1.6), vs uniform(0.03, 0.07), sigma2 uniform(0.7, 1.5),
+# sigma0 uniform(120, 280); sigma1 sqrt(sigma0*J)/2.5, the velocity PI's gains 48*J and 290*J), then
+# the rates uniform(150, 900) Hz rounded to 5 and the torque noise uniform(0.03, 0.12) N*m, not chosen
+SEDATE = T.Plant(J=0.173, Fc=0.715, Fs=0.984, vs=0.0389, sigma2=1.329, sigma0=155.0, sigma1=2.07)
+PLACID = T.Plant(J=0.157, Fc=1.013, Fs=1.445, vs=0.0497, sigma2=1.427, sigma0=247.0, sigma1=2.49)
+SERENE = T.Plant(J=0.078, Fc=1.024, Fs=1.455, vs=0.0697, sigma2=0.869, sigma0=186.0, sigma1=1.52)
+_add_plants({"sedate": (SEDATE, T.VelocityPIController(kp=8.3, ki=50.0)),
+             "placid": (PLACID, T.VelocityPIController(kp=7.5, ki=45.5)),
+             "serene": (SERENE, T.VelocityPIController(kp=3.7, ki=22.6))},
+            {"sedate": PidTuning(3.0, 0.002),
+             "placid": PidTuning(3.3, 0.003),
+             "serene": PidTuning(2.8, 0.002)})
+
+
+def calib51_settings(n: int = 24):
+    """A fifty-first effect-free set (issue #30), fixed and committed before its first run: the six
+    excitation kinds (calib41's) x both loops (the position PID without feedforward in every fourth
+    row), both sensors in rows 0-11 and the velocity sensor alone in rows 12-23, on SEDATE, PLACID
+    and SERENE, at drawn rates 325-855 Hz and torque noise 0.035-0.062 N*m, white in half the rows
+    and AR(1) of coefficient 0.6 or 0.3 in the other half, velocity noise 0.002 or 0.004 deg/s,
+    quantisation 0.0005 or 0.001 deg; seeds 23700 + i."""
+    return _effect_free_set("calib51", CALIB41_EXCITATIONS, ["sedate", "placid", "serene"],
+                            [(True, True), (False, True), (True, False)], [855.0, 585.0, 700.0, 605.0, 325.0],
+                            [0.035, 0.039, 0.062], [0.0, 0.6, 0.0, 0.3], [0.002, 0.004], [0.0005, 0.001],
+                            23700, n, loops=("pi", "pid"), nff=2, plant_k=1, fs_k=3, tn_rule=(1, 4))
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3479,7 +3507,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
             "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings,
             "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "calib50": calib50_settings, "fresh44": fresh44_settings,
-            "fresh45": fresh45_settings,
+            "fresh45": fresh45_settings, "calib51": calib51_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3665,7 +3693,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
-               "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45")
+               "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51")
 
 
 def main():
