@@ -189,12 +189,28 @@ def _plot_attribution(report, rec, keep, terms, columns, fits, partials, outdir,
         ax.set_title(f"{term['signal']}: {term['reading'].split(':')[0]}", fontsize=9)
         ax.legend(fontsize=7, loc="upper left")
     a = report.attribution
-    fig.suptitle(f"attribution: cross-validated RMSE {a.get('cv_rmse_before_nm', float('nan')):.4g} -> "
-                 f"{a.get('cv_rmse_after_nm', float('nan')):.4g} {u['torque']} (fixed held-out phase "
-                 f"{a['validation_rmse_before_nm']:.4g} -> {a['validation_rmse_after_nm']:.4g})", fontsize=10)
+    title = (f"attribution: cross-validated RMSE {a.get('cv_rmse_before_nm', float('nan')):.4g} -> "
+             f"{a.get('cv_rmse_after_nm', float('nan')):.4g} {u['torque']} (fixed held-out phase "
+             f"{a['validation_rmse_before_nm']:.4g} -> {a['validation_rmse_after_nm']:.4g})")
+    total, parts = _sum_and_parts_rms(fits, keep)
+    if len(parts) > 1 and total < 0.5 * float(np.sqrt(np.sum(np.square(parts)))):
+        title += (f"\nthe terms nearly cancel (each {', '.join(f'{p:.3g}' for p in parts)} rms, their sum "
+                  f"{total:.3g} {u['torque']}): only their sum is determined, not each")
+    fig.suptitle(title, fontsize=10)
+    fig.subplots_adjust(top=0.80 if "\n" in title else 0.87)
     path = Path(outdir) / "attribution.png"
     save_figure(fig, path)
     return str(path)
+
+
+def _sum_and_parts_rms(fits, keep) -> tuple[float, list[float]]:
+    """The rms, over the kept samples, of the terms' joint fits summed and of each alone: collinear
+    terms (jerk and the torque's rate, both mostly J*jerk) can take large coefficients of opposite
+    sign whose sum is small, so each partial residual alone would overstate what the data show."""
+    F = [np.asarray(f, float)[keep] for f in fits]
+    if not F:
+        return 0.0, []
+    return float(np.sqrt(np.mean(np.sum(F, axis=0) ** 2))), [float(np.sqrt(np.mean(f ** 2))) for f in F]
 
 
 def _signal_unit(term, u) -> str:
