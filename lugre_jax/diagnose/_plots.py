@@ -207,10 +207,12 @@ def _sum_and_parts_rms(fits, keep) -> tuple[float, list[float]]:
     """The rms, over the kept samples, of the terms' joint fits summed and of each alone: collinear
     terms (jerk and the torque's rate, both mostly J*jerk) can take large coefficients of opposite
     sign whose sum is small, so each partial residual alone would overstate what the data show."""
-    F = [np.asarray(f, float)[keep] for f in fits]
+    from ._attribute import _rms
+
+    F = [np.asarray(f, float) for f in fits]
     if not F:
         return 0.0, []
-    return float(np.sqrt(np.mean(np.sum(F, axis=0) ** 2))), [float(np.sqrt(np.mean(f ** 2))) for f in F]
+    return _rms(np.sum(F, axis=0), keep), [_rms(f, keep) for f in F]
 
 
 def _signal_unit(term, u) -> str:
