@@ -3464,6 +3464,27 @@ def calib51_settings(n: int = 24):
                             [0.035, 0.039, 0.062], [0.0, 0.6, 0.0, 0.3], [0.002, 0.004], [0.0005, 0.001],
                             23700, n, loops=("pi", "pid"), nff=2, plant_k=1, fs_k=3, tn_rule=(1, 4))
 
+# outside20 and outside21: the current design (bb870a6), frozen before their first run; outside14's
+# rows on calib51's and calib50's plants, rates drawn (numpy default_rng(20) and default_rng(21):
+# uniform(200, 800) Hz rounded to 5, rows a-h), not chosen
+_OUT20_RECIPES = _outside14_on({"gritty": "sedate", "sprightly": "placid", "stolid": "serene"},
+                               (370.0, 475.0, 275.0, 515.0, 445.0, 245.0, 260.0, 790.0))
+_OUT21_RECIPES = _outside14_on({"gritty": "calm", "sprightly": "stern", "stolid": "ardent"},
+                               (670.0, 565.0, 625.0, 255.0, 580.0, 790.0, 455.0, 265.0))
+
+
+def outside20_settings():
+    """A twentieth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on SEDATE, PLACID and SERENE, at drawn rates (245-790 Hz) and seeds 23800 + k."""
+    return _outside_set("outside20_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT20_RECIPES, 23800)
+
+
+def outside21_settings():
+    """A twenty-first outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on CALM, STERN and ARDENT, at drawn rates (255-790 Hz) and seeds 23900 + k."""
+    return _outside_set("outside21_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT21_RECIPES, 23900)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3507,7 +3528,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside17": outside17_settings, "calib44": calib44_settings, "calib45": calib45_settings,
             "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings,
             "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "calib50": calib50_settings, "fresh44": fresh44_settings,
-            "fresh45": fresh45_settings, "calib51": calib51_settings,
+            "fresh45": fresh45_settings, "calib51": calib51_settings, "outside20": outside20_settings,
+            "outside21": outside21_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3693,7 +3715,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "calib38", "outside13", "fresh36", "calib39", "fresh37", "outside14", "calib40",
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
-               "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51")
+               "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
+               "outside20", "outside21")
 
 
 def main():
