@@ -312,7 +312,7 @@ def test_attribution_finds_an_actuator_lag():
     """A torque that reaches the joint through a 20-ms lag (outside the eight candidates), on a
     staircase at 200 Hz with noise 0.08 N*m: 'unexplained', attributed to the torque's rate with a
     coefficient of the lag's order (0.5-1.5 x 20 ms) and a lower cross-validated held-out RMSE, which the
-    report's words give."""
+    report's words give, with each term's size and whether the terms nearly cancel."""
     import lugre_jax
     from lugre_jax import testing as T
     from lugre_jax.diagnose import diagnose
@@ -328,6 +328,9 @@ def test_attribution_finds_an_actuator_lag():
     assert a["cv_rmse_after_nm"] < a["cv_rmse_before_nm"]
     words = rep.missing_physics[-1].explanation
     assert f"from {a['cv_rmse_before_nm']:.4g} to {a['cv_rmse_after_nm']:.4g} N*m" in words, words
+    # the term's size over the kept samples, and no cancelling pair to report
+    assert all(term["fit_rms_nm"] > 0 for term in a["terms"]) and a["terms_nearly_cancel"] is (
+        "nearly cancel" in words)
 
 
 def _cli(*args, cwd=None):
@@ -790,11 +793,12 @@ def test_attribution_figure_draws_each_term_over_its_partial_residual(tmp_path):
     assert path.endswith("attribution.png") and (tmp_path / "attribution.png").stat().st_size > 10_000
 
 
-def test_attribution_figure_says_when_collinear_terms_cancel(tmp_path):
-    """Two nearly collinear terms fitted jointly take large coefficients of opposite sign: the figure's
-    helper measures each term's fit and their sum over the kept samples, and the sum is far below the
-    parts exactly when the columns nearly coincide (rms of the sum vs the parts: 0.02 vs ~1, a
-    hundredfold, where independent columns keep the sum at the parts' quadrature sum within 5 %)."""
+def test_attribution_reports_when_collinear_terms_cancel(tmp_path):
+    """Two nearly collinear terms fitted jointly take large coefficients of opposite sign: the
+    attribution measures each term's fit and their sum over the kept samples, and says the terms
+    nearly cancel exactly when the columns nearly coincide (rms of the sum vs the parts: 0.02 vs ~1,
+    a hundredfold, where independent columns keep the sum at the parts' quadrature sum within 5 %),
+    in REPORT.json's fields and in the figure's title."""
     import types
 
     import matplotlib
@@ -802,35 +806,46 @@ def test_attribution_figure_says_when_collinear_terms_cancel(tmp_path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from lugre_jax.diagnose._attribute import _partials
-    from lugre_jax.diagnose._plots import _plot_attribution, _sum_and_parts_rms
+    from lugre_jax.diagnose._attribute import Attribution, _partials, _rms
+    from lugre_jax.diagnose._plots import _plot_attribution
 
     rng = np.random.default_rng(5)
     n = 4000
     t = np.arange(n) / 100.0
+    keep = np.ones(n, bool)
+    keep[::7] = False  # the sizes are over the kept samples
+
+    def attribution(cols, r):
+        D = np.column_stack([np.ones((n, 1))] + cols)
+        beta = np.linalg.lstsq(D[keep], r[keep], rcond=None)[0]
+        fits, partials = _partials(1, cols, r - D @ beta, beta)
+        terms = ({"signal": "jerk", "columns": ["jerk"], "units": ["N*m*s^3/deg"], "reading": "follows the jerk"},
+                 {"signal": "torque_rate", "columns": ["d(tau_model)/dt"], "units": ["s"],
+                  "reading": "follows the torque's rate"})
+        a = Attribution(terms, 0.1, 0.05, (), tuple(cols), fits, partials, 0.1, 0.05,
+                        tuple(_rms(f, keep) for f in fits), _rms(np.sum(fits, axis=0), keep))
+        return a, a.to_json()
+
     x = np.sin(t) + 0.3 * np.sin(3.1 * t)
     near = x + 0.01 * rng.standard_normal(n)  # the second column: the first plus a little of its own
-    r = 0.02 * (near - x) / 0.01 + 0.05 * rng.standard_normal(n)
-    JB = np.ones((n, 1))
-    cols = [x[:, None], near[:, None]]
-    D = np.column_stack([JB] + cols)
-    beta = np.linalg.lstsq(D, r, rcond=None)[0]
-    fits, partials = _partials(1, cols, r - D @ beta, beta)
-    keep = np.ones(n, bool)
-    total, parts = _sum_and_parts_rms(fits, keep)
-    assert min(parts) > 0.5 and total < 0.05 * np.sqrt(np.sum(np.square(parts)))
+    a, js = attribution([x[:, None], near[:, None]], 0.02 * (near - x) / 0.01 + 0.05 * rng.standard_normal(n))
+    parts = [term["fit_rms_nm"] for term in js["terms"]]
+    assert min(parts) > 0.5 and js["terms_sum_rms_nm"] < 0.05 * np.hypot(*parts)
+    assert a.nearly_cancel and js["terms_nearly_cancel"] is True
     # independent columns: no cancellation
     other = [np.sin(0.37 * t)[:, None], np.cos(2.9 * t)[:, None]]
-    D2 = np.column_stack([JB] + other)
-    r2 = 0.3 * other[0][:, 0] + 0.2 * other[1][:, 0] + 0.05 * rng.standard_normal(n)
-    b2 = np.linalg.lstsq(D2, r2, rcond=None)[0]
-    f2, _ = _partials(1, other, r2 - D2 @ b2, b2)
-    total2, parts2 = _sum_and_parts_rms(f2, keep)
-    assert abs(total2 / np.sqrt(np.sum(np.square(parts2))) - 1.0) < 0.05
-    terms = [{"signal": "jerk", "columns": ["jerk"], "units": ["N*m*s^3/deg"], "reading": "follows the jerk"},
-             {"signal": "torque_rate", "columns": ["d(tau_model)/dt"], "units": ["s"],
-              "reading": "follows the torque's rate"}]
-    report = types.SimpleNamespace(attribution={"validation_rmse_before_nm": 0.1, "validation_rmse_after_nm": 0.05})
+    b, js2 = attribution(other, 0.3 * other[0][:, 0] + 0.2 * other[1][:, 0] + 0.05 * rng.standard_normal(n))
+    assert abs(js2["terms_sum_rms_nm"] / np.hypot(*[term["fit_rms_nm"] for term in js2["terms"]]) - 1.0) < 0.05
+    assert not b.nearly_cancel and js2["terms_nearly_cancel"] is False
     rec = types.SimpleNamespace(units={"torque": "N*m", "time": "s", "position": "deg"}, time=t)
-    path = _plot_attribution(report, rec, keep, terms, cols, fits, partials, tmp_path, plt)
-    assert (tmp_path / "attribution.png").stat().st_size > 10_000 and path.endswith("attribution.png")
+    for att, jj in ((a, js), (b, js2)):
+        fig_titles = []
+        orig = plt.Figure.suptitle
+        plt.Figure.suptitle = lambda self, s, **kw: fig_titles.append(s) or orig(self, s, **kw)
+        try:
+            path = _plot_attribution(types.SimpleNamespace(attribution=jj), rec, keep, jj["terms"], att.columns,
+                                     att.fits, att.partials, tmp_path, plt)
+        finally:
+            plt.Figure.suptitle = orig
+        assert path.endswith("attribution.png") and (tmp_path / "attribution.png").stat().st_size > 10_000
+        assert ("nearly cancel" in fig_titles[0]) == att.nearly_cancel

@@ -320,6 +320,8 @@ class Attribution:
     partials: tuple = dataclasses.field(default=(), repr=False, compare=False)
     cv_rmse_before_nm: float = float("nan")
     cv_rmse_after_nm: float = float("nan")
+    fit_rms_nm: tuple = ()  # each term's fit, rms over the kept samples
+    sum_rms_nm: float = float("nan")  # the terms' fits summed, rms over the kept samples
 
     @property
     def found(self) -> bool:
@@ -329,12 +331,36 @@ class Attribution:
     def signals(self) -> list[str]:
         return [t["signal"] for t in self.terms]
 
+    @property
+    def nearly_cancel(self) -> bool:
+        """Whether the terms' joint fits sum to under :data:`CANCEL_SHARE` of their quadrature sum:
+        nearly collinear terms (jerk and the torque's rate, both mostly J*jerk) take large
+        coefficients of opposite sign, and the data determine only their sum, not each."""
+        return len(self.fit_rms_nm) > 1 and self.sum_rms_nm < CANCEL_SHARE * float(np.hypot.reduce(self.fit_rms_nm))
+
     def to_json(self) -> dict:
-        return {"signals": self.signals, "terms": list(self.terms),
+        terms = [{**t, "fit_rms_nm": f} for t, f in zip(self.terms, self.fit_rms_nm)] if self.fit_rms_nm \
+            else list(self.terms)
+        return {"signals": self.signals, "terms": terms,
                 "validation_rmse_before_nm": self.validation_rmse_before_nm,
                 "validation_rmse_after_nm": self.validation_rmse_after_nm,
                 "cv_rmse_before_nm": self.cv_rmse_before_nm, "cv_rmse_after_nm": self.cv_rmse_after_nm,
+                **({"terms_sum_rms_nm": self.sum_rms_nm, "terms_nearly_cancel": self.nearly_cancel}
+                   if self.fit_rms_nm else {}),
                 "tests": list(self.tests)}
+
+
+def cancel_words(terms, sum_rms: float, unit: str) -> str:
+    """The report's words for terms that nearly cancel (``terms`` as in ``Attribution.to_json``)."""
+    each = ", ".join("%.3g" % t["fit_rms_nm"] for t in terms)
+    return (f"the terms nearly cancel (each {each} {unit} rms, their sum {sum_rms:.3g} {unit}): only their sum "
+            "is determined, not each")
+
+
+# two terms whose fits sum to under this share of their quadrature sum (for two of equal size, a
+# correlation below -0.75) are reported as nearly cancelling: each term's size alone then says
+# more than the data do
+CANCEL_SHARE = 0.5
 
 
 # groups built from the acceleration's derivatives or magnitude: with derivatives of a quantised
@@ -516,7 +542,8 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         after, cv_after = new, cv_new
     fits, partials = _partials(JB.shape[1], [X for _, X in chosen], *joint) if joint else ((), ())
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen), fits, partials,
-                       cv_before, cv_after)
+                       cv_before, cv_after, tuple(_rms(f, keep) for f in fits),
+                       _rms(np.sum(fits, axis=0), keep) if fits else float("nan"))
 
 
 def _rms(r, mask) -> float:

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..io import save_figure
 from . import _model as M
+from ._attribute import cancel_words
 from ._report import Diagnosis
 
 
@@ -192,27 +193,13 @@ def _plot_attribution(report, rec, keep, terms, columns, fits, partials, outdir,
     title = (f"attribution: cross-validated RMSE {a.get('cv_rmse_before_nm', float('nan')):.4g} -> "
              f"{a.get('cv_rmse_after_nm', float('nan')):.4g} {u['torque']} (fixed held-out phase "
              f"{a['validation_rmse_before_nm']:.4g} -> {a['validation_rmse_after_nm']:.4g})")
-    total, parts = _sum_and_parts_rms(fits, keep)
-    if len(parts) > 1 and total < 0.5 * float(np.sqrt(np.sum(np.square(parts)))):
-        title += (f"\nthe terms nearly cancel (each {', '.join(f'{p:.3g}' for p in parts)} rms, their sum "
-                  f"{total:.3g} {u['torque']}): only their sum is determined, not each")
+    if a.get("terms_nearly_cancel"):
+        title += "\n" + cancel_words(terms, a["terms_sum_rms_nm"], u["torque"])
     fig.suptitle(title, fontsize=10)
     fig.subplots_adjust(top=0.80 if "\n" in title else 0.87)
     path = Path(outdir) / "attribution.png"
     save_figure(fig, path)
     return str(path)
-
-
-def _sum_and_parts_rms(fits, keep) -> tuple[float, list[float]]:
-    """The rms, over the kept samples, of the terms' joint fits summed and of each alone: collinear
-    terms (jerk and the torque's rate, both mostly J*jerk) can take large coefficients of opposite
-    sign whose sum is small, so each partial residual alone would overstate what the data show."""
-    from ._attribute import _rms
-
-    F = [np.asarray(f, float) for f in fits]
-    if not F:
-        return 0.0, []
-    return _rms(np.sum(F, axis=0), keep), [_rms(f, keep) for f in F]
 
 
 def _signal_unit(term, u) -> str:

@@ -27,7 +27,7 @@ import numpy as np
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
-from ._attribute import kinematic_lines, motion_lines, rivals
+from ._attribute import _rms, cancel_words, kinematic_lines, motion_lines, rivals
 from ._calibrate import held_out_p, rejects
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
@@ -52,10 +52,6 @@ def _mismatch(loc: dict, at_floor: bool) -> dict:
 
 def _sse(r, w):
     return float(np.sum(w * r ** 2))
-
-
-def _val_rmse(r, val):
-    return float(np.sqrt(np.mean(r[val] ** 2)))
 
 
 def _ms_bound(r, mask, blocks) -> float:
@@ -628,7 +624,7 @@ def _floor(prep: Prepared, split: Split, cfg, fit_offset, r0: np.ndarray) -> Flo
         blur = friction_smoothing_error(rec.time, _friction(base, kin), cond)
         nuisance.append(np.where(split.keep, blur, 0.0))
     known["nuisance"] = np.column_stack(nuisance)
-    ratio = _val_rmse(r0, split.val) / floor if floor > 0 else float("inf")
+    ratio = _rms(r0, split.val) / floor if floor > 0 else float("inf")
     scales = {**scales, "noise": floor, "acceleration_attenuation": lam}
     return Floor(torque_nm, kin_noise, floor, ratio, lam, known, null, scales,
                  kinematic_errors=null.kinematic_scale * draws)
@@ -788,7 +784,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             fwd = _Reference(fitted, space.specs, r1)
             riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
             judged_with = ref.refused
-            v_cur, v1 = _val_rmse(r_cur, val), _val_rmse(r1, val)
+            v_cur, v1 = _rms(r_cur, val), _rms(r1, val)
             if why is None:
                 if judged_with is None:
                     m_test, specs_test, r_test = fitted, space.specs, r1
@@ -798,7 +794,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 r_cur_cv = ref.cross_validated(kin, tau, split, cfg)
                 r1_cv = _cross_validated(m_test, specs_test, kin, tau, keep, split.blocks, split.phase,
                                          split.folds, cfg.max_steps)
-                cv_cur, cv1 = _val_rmse(r_cur_cv, split.cv_mask), _val_rmse(r1_cv, split.cv_mask)
+                cv_cur, cv1 = _rms(r_cur_cv, split.cv_mask), _rms(r1_cv, split.cv_mask)
                 p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
                          if np.all(np.isfinite(r1_cv)) else 1.0)
                 if not (cv1 < cv_cur and rejects(p_val, cfg.alpha_confirm)):
@@ -809,8 +805,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                     # alike: judged against a refused structure, it must still be below the current one's
                     if judged_with is None:
                         fwd = _Reference(fitted, space.specs, r1, _cv=r1_cv)
-                    cv_fwd, cv_fwd_before = (_val_rmse(fwd.cross_validated(kin, tau, split, cfg), split.cv_mask),
-                                             _val_rmse(cur_ref.cross_validated(kin, tau, split, cfg), split.cv_mask))
+                    cv_fwd, cv_fwd_before = (_rms(fwd.cross_validated(kin, tau, split, cfg), split.cv_mask),
+                                             _rms(cur_ref.cross_validated(kin, tau, split, cfg), split.cv_mask))
                     if not cv_fwd < cv_fwd_before:
                         why = (f"lowers the held-out error only with {judged_with}'s structure (cross-validated "
                                f"{cv_fwd_before:.4g} -> {cv_fwd:.4g} without it)")
@@ -823,7 +819,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                     p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
                     best = int(np.argmin(p_under))
                     g_riv, r_riv = rivals_step[best]
-                    riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _val_rmse(r_riv, split.cv_mask),
+                    riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
                            "p_rival": min(1.0, len(p_under) * float(p_under[best]))}
                     if rejects(riv["p_rival"], cfg.alpha_name):
                         why = (f"the library's {g_riv.name} term predicts the held-out blocks better (cross-validated "
@@ -903,12 +899,12 @@ def diagnose(rec, *, params: dict | None = None, refit: bool = False, friction: 
     final, accepted, log = _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start)
     current, r_cur = final.model, final.r
     loc_cur = (_locate(prep, split, floor, cfg, current, r_cur, flags,
-                       _val_rmse(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
+                       _rms(r_cur, split.val) <= cfg.at_floor * floor.floor_nm) if accepted else loc0)
     attribution = _attribute(prep, split, floor, cfg, current, r_cur, fit_offset, frozen)
     # the held-out error reported: cross-validated over the block phases, as the selection's test
     tau = np.asarray(prep.rec.torque)
-    cv = (_val_rmse(start.cross_validated(prep.kin, tau, split, cfg), split.cv_mask),
-          _val_rmse(final.cross_validated(prep.kin, tau, split, cfg), split.cv_mask))
+    cv = (_rms(start.cross_validated(prep.kin, tau, split, cfg), split.cv_mask),
+          _rms(final.cross_validated(prep.kin, tau, split, cfg), split.cv_mask))
     return _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted, log, attribution,
                    cv, t_start)
 
@@ -949,7 +945,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
         held_out_phase=int(split.phase), cross_validated_phases=[int(f) for f in split.folds])
     baseline = Baseline(
         params=M.model_params(base), rmse_nm=float(np.sqrt(np.mean(r0[w > 0] ** 2))),
-        validation_rmse_nm=cv[0], fixed_phase_rmse_nm=_val_rmse(r0, val),
+        validation_rmse_nm=cv[0], fixed_phase_rmse_nm=_rms(r0, val),
         fit={**prep.info, "acceleration_attenuation": floor.attenuation, "held_out_unpredicted": split.unpredicted},
         noise_floor_nm=floor.floor_nm, torque_noise_nm=floor.torque_nm, kinematic_noise_nm=floor.kinematic_nm,
         floor_ratio=ratio, at_floor=bool(ratio <= cfg.at_floor),
@@ -971,7 +967,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     # a finding's parameters are those of the final joint model; its evidence stays that of its step
     ctx_final = _context(prep, split, floor, current, r_cur, cfg, loc_cur)
     missing = [Finding(name=name, explanation=type(c).explanation, params=c.describe(ctx_final),
-                       validation_rmse_nm=_val_rmse(t["ref"].cross_validated(kin, np.asarray(rec.torque), split, cfg),
+                       validation_rmse_nm=_rms(t["ref"].cross_validated(kin, np.asarray(rec.torque), split, cfg),
                                                     split.cv_mask), delta_bic=t["delta_bic"],
                        p_validation=t["p_validation"], p_family=t["p_family"])
                for (name, t), c in zip(accepted, current.candidates, strict=True)]
@@ -982,6 +978,9 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                     + f"; with the term{'s' if len(attribution.terms) > 1 else ''} the held-out RMSE, "
                     f"cross-validated, goes from {attribution.cv_rmse_before_nm:.4g} to "
                     f"{attribution.cv_rmse_after_nm:.4g} {rec.units['torque']}."
+                    + (" In this fit " + cancel_words(attribution.to_json()["terms"], attribution.sum_rms_nm,
+                                                      rec.units["torque"]) + "."
+                       if attribution.nearly_cancel else "")
                     if attribution.found else ""))
         missing.append(Finding(name="unexplained", explanation=words,
                                params={"regions": [x.to_json() for x in remaining[:10]],
@@ -992,7 +991,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     improved = Improved(
         params={**M.model_params(current), **{c.id: c.describe(ctx_final) for c in current.candidates}},
         rmse_nm=float(np.sqrt(np.mean(r_cur[w > 0] ** 2))), validation_rmse_nm=cv[1],
-        fixed_phase_rmse_nm=_val_rmse(r_cur, val))
+        fixed_phase_rmse_nm=_rms(r_cur, val))
     arrays = DiagnosisArrays(rec=rec, kin=kin, baseline_model=base, improved_model=current, r0=r0, r1=r_cur,
                              val=val, blocks=blocks, loc0=loc0, loc1=loc_cur,
                              attribution=attribution, kinematic_errors=floor.kinematic_errors,
