@@ -3485,6 +3485,20 @@ def outside21_settings():
     return _outside_set("outside21_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT21_RECIPES, 23900)
 
 
+# fresh46: the design of 046cd8f (verdicts as bb870a6's), frozen before its first run; rates and
+# variations drawn as fresh45's (numpy default_rng(46)), not chosen; fresh3's plants; all 24 of
+# fresh3's effect rows
+_F46_FS = {"a": 840.0, "b": 300.0, "c": 425.0, "d": 655.0, "e": 855.0, "f": 305.0, "g": 660.0, "h": 755.0,
+           "i": 580.0}
+_F46_VARIED = _varied(1.5614, 1.1962, -0.0054)
+
+
+def fresh46_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 300-855 Hz (by recipe, drawn), seeds 24000 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh46", _F46_FS, _F46_VARIED, 24000)
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3529,7 +3543,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh41": fresh41_settings, "calib46": calib46_settings, "fresh42": fresh42_settings, "calib47": calib47_settings, "outside18": outside18_settings, "calib48": calib48_settings,
             "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "calib50": calib50_settings, "fresh44": fresh44_settings,
             "fresh45": fresh45_settings, "calib51": calib51_settings, "outside20": outside20_settings,
-            "outside21": outside21_settings,
+            "outside21": outside21_settings, "fresh46": fresh46_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3716,7 +3730,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
-               "outside20", "outside21")
+               "outside20", "outside21", "fresh46")
 
 
 def main():
