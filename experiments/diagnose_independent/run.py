@@ -3499,6 +3499,33 @@ def fresh46_settings():
     sign and the ripple's period and phase changed by drawn amounts."""
     return _refreshed("fresh46", _F46_FS, _F46_VARIED, 24000)
 
+# calib52: the design of 046cd8f (verdicts as bb870a6's), frozen before its first run; three plants no
+# earlier set used, their parameters drawn by calib51's recipe (numpy default_rng(52); the position
+# PID's kp uniform(2.8, 3.4), kd 0.002 or 0.003), then the rates uniform(150, 900) Hz rounded to 5 and
+# the torque noise uniform(0.03, 0.12) N*m, not chosen
+QUIET = T.Plant(J=0.134, Fc=0.902, Fs=1.313, vs=0.0303, sigma2=1.14, sigma0=275.0, sigma1=2.43)
+TENDER = T.Plant(J=0.089, Fc=1.163, Fs=1.824, vs=0.049, sigma2=0.794, sigma0=133.0, sigma1=1.38)
+GENTLE = T.Plant(J=0.068, Fc=0.843, Fs=1.199, vs=0.0606, sigma2=0.758, sigma0=200.0, sigma1=1.47)
+_add_plants({"quiet": (QUIET, T.VelocityPIController(kp=6.4, ki=38.8)),
+             "tender": (TENDER, T.VelocityPIController(kp=4.3, ki=25.9)),
+             "gentle": (GENTLE, T.VelocityPIController(kp=3.3, ki=19.6))},
+            {"quiet": PidTuning(3.0, 0.002),
+             "tender": PidTuning(3.4, 0.002),
+             "gentle": PidTuning(3.3, 0.002)})
+
+
+def calib52_settings(n: int = 24):
+    """A fifty-second effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the position sensor alone in rows 0-11 and both sensors in rows 12-23, on QUIET,
+    TENDER and GENTLE, at drawn rates 290-735 Hz and torque noise 0.055-0.12 N*m, white in half the
+    rows and AR(1) of coefficient 0.4 or 0.7 in the other half, velocity noise 0.003 or 0.005 deg/s,
+    quantisation 0.0005 or 0.001 deg; seeds 24100 + i."""
+    return _effect_free_set("calib52", CALIB41_EXCITATIONS, ["quiet", "tender", "gentle"],
+                            [(True, False), (True, True), (False, True)], [735.0, 560.0, 290.0, 730.0, 340.0],
+                            [0.085, 0.055, 0.12], [0.0, 0.4, 0.0, 0.7], [0.003, 0.005], [0.0005, 0.001],
+                            24100, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3544,6 +3571,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "calib50": calib50_settings, "fresh44": fresh44_settings,
             "fresh45": fresh45_settings, "calib51": calib51_settings, "outside20": outside20_settings,
             "outside21": outside21_settings, "fresh46": fresh46_settings,
+            "calib52": calib52_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3730,7 +3758,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
-               "outside20", "outside21", "fresh46")
+               "outside20", "outside21", "fresh46", "calib52")
 
 
 def main():
