@@ -806,7 +806,7 @@ def test_attribution_reports_when_collinear_terms_cancel(tmp_path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from lugre_jax.diagnose._attribute import Attribution, _partials, _rms
+    from lugre_jax.diagnose._attribute import Attribution, _partials, term_sizes
     from lugre_jax.diagnose._plots import _plot_attribution
 
     rng = np.random.default_rng(5)
@@ -822,8 +822,7 @@ def test_attribution_reports_when_collinear_terms_cancel(tmp_path):
         terms = ({"signal": "jerk", "columns": ["jerk"], "units": ["N*m*s^3/deg"], "reading": "follows the jerk"},
                  {"signal": "torque_rate", "columns": ["d(tau_model)/dt"], "units": ["s"],
                   "reading": "follows the torque's rate"})
-        a = Attribution(terms, 0.1, 0.05, (), tuple(cols), fits, partials, 0.1, 0.05,
-                        tuple(_rms(f, keep) for f in fits), _rms(np.sum(fits, axis=0), keep))
+        a = Attribution(terms, 0.1, 0.05, (), tuple(cols), fits, partials, 0.1, 0.05, *term_sizes(fits, keep))
         return a, a.to_json()
 
     x = np.sin(t) + 0.3 * np.sin(3.1 * t)

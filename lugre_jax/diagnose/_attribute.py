@@ -350,9 +350,15 @@ class Attribution:
                 "tests": list(self.tests)}
 
 
-def cancel_words(terms, sum_rms: float, unit: str) -> str:
-    """The report's words for terms that nearly cancel (``terms`` as in ``Attribution.to_json``)."""
-    each = ", ".join("%.3g" % t["fit_rms_nm"] for t in terms)
+def term_sizes(fits, keep) -> tuple[tuple, float]:
+    """Each term's joint fit and the fits summed, rms over the kept samples ``keep``
+    (``Attribution.fit_rms_nm`` and ``sum_rms_nm``)."""
+    return tuple(_rms(f, keep) for f in fits), (_rms(np.sum(fits, axis=0), keep) if fits else float("nan"))
+
+
+def cancel_words(sizes, sum_rms: float, unit: str) -> str:
+    """The report's words for terms that nearly cancel: each term's size ``sizes`` and their sum's."""
+    each = ", ".join("%.3g" % x for x in sizes)
     return (f"the terms nearly cancel (each {each} {unit} rms, their sum {sum_rms:.3g} {unit}): only their sum "
             "is determined, not each")
 
@@ -542,8 +548,7 @@ def attribute(model, specs, ctx, kin, rows, val, blocks, null, n_draws: int, alp
         after, cv_after = new, cv_new
     fits, partials = _partials(JB.shape[1], [X for _, X in chosen], *joint) if joint else ((), ())
     return Attribution(tuple(terms), before, after, tuple(tests), tuple(X for _, X in chosen), fits, partials,
-                       cv_before, cv_after, tuple(_rms(f, keep) for f in fits),
-                       _rms(np.sum(fits, axis=0), keep) if fits else float("nan"))
+                       cv_before, cv_after, *term_sizes(fits, keep))
 
 
 def _rms(r, mask) -> float:

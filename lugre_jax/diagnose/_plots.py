@@ -194,7 +194,7 @@ def _plot_attribution(report, rec, keep, terms, columns, fits, partials, outdir,
              f"{a.get('cv_rmse_after_nm', float('nan')):.4g} {u['torque']} (fixed held-out phase "
              f"{a['validation_rmse_before_nm']:.4g} -> {a['validation_rmse_after_nm']:.4g})")
     if a.get("terms_nearly_cancel"):
-        title += "\n" + cancel_words(terms, a["terms_sum_rms_nm"], u["torque"])
+        title += "\n" + cancel_words([t["fit_rms_nm"] for t in terms], a["terms_sum_rms_nm"], u["torque"])
     fig.suptitle(title, fontsize=10)
     fig.subplots_adjust(top=0.80 if "\n" in title else 0.87)
     path = Path(outdir) / "attribution.png"

@@ -978,7 +978,7 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                     + f"; with the term{'s' if len(attribution.terms) > 1 else ''} the held-out RMSE, "
                     f"cross-validated, goes from {attribution.cv_rmse_before_nm:.4g} to "
                     f"{attribution.cv_rmse_after_nm:.4g} {rec.units['torque']}."
-                    + (" In this fit " + cancel_words(attribution.to_json()["terms"], attribution.sum_rms_nm,
+                    + (" In this fit " + cancel_words(attribution.fit_rms_nm, attribution.sum_rms_nm,
                                                       rec.units["torque"]) + "."
                        if attribution.nearly_cancel else "")
                     if attribution.found else ""))
