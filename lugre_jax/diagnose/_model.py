@@ -149,6 +149,12 @@ class AbstractCandidate(eqx.Module):
     def applicable(self, ctx: Context) -> bool:
         """Whether the candidate makes sense for this recording/baseline (e.g. gravity needs angles)."""
 
+    # (profiled, linear): a parameter the torque depends on only through events it moves between
+    # samples (a dead band's width: the fit's objective is flat between them, so LM leaves it where
+    # it starts), found by a profile over a fine grid around its value instead, with the parameter
+    # the torque is proportional to solved by least squares at each grid value (:func:`fit`)
+    profiled: ClassVar[tuple[str, str] | None] = None
+
     # parameters that must differ from these null values, by >= 3 standard errors of the joint fit,
     # for the candidate to be named (identifiable on the recording's excitation)
     key_params: ClassVar[dict] = {}
@@ -457,21 +463,97 @@ def static_curve_basis(model: JointModel, specs: list[Spec], v) -> np.ndarray:
     return G[:, np.any(G != 0, axis=0)]
 
 
+# A profiled parameter's grid: this factor either side of its value (the candidates' starts are a
+# factor ~3 apart, so the nearest start is within it of the optimum), in steps of PROFILE_STEP (the
+# width is then known to ~2 %, well inside its standard error on a concealed effect).
+PROFILE_SPAN = 3.0
+PROFILE_STEP = 1.04
+
+
+@eqx.filter_jit
+def _profile_columns(model, k, names, values, kin):
+    """Predicted torque with candidate ``k``'s profiled parameter at each of ``values`` and its
+    linear parameter at 1 (rows), and with the linear parameter at 0 (the torque without it)."""
+    p_name, g_name = names
+
+    c = model.candidates[k]
+
+    def at(p, g):
+        return eqx.tree_at(lambda m: (getattr(m.candidates[k], p_name), getattr(m.candidates[k], g_name)),
+                           model, (jnp.asarray(p, getattr(c, p_name).dtype),
+                                   jnp.asarray(g, getattr(c, g_name).dtype))).predict(kin)
+
+    return jax.vmap(lambda p: at(p, 1.0))(values), at(values[0], 0.0)
+
+
+def _profiled(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights) -> JointModel:
+    """``model`` with each candidate's profiled parameter (``profiled``) moved to the best value of
+    a log grid around it within its bounds, the linear parameter solved by weighted least squares
+    (clipped to its bounds) at each; the current value is on the grid, so the weighted error never
+    rises. Parameters the fit holds fixed (not in ``space``) are left."""
+    by_path = {s.path: s for s in space.specs}
+    for k, c in enumerate(model.candidates):
+        names = type(c).profiled
+        if names is None:
+            continue
+        sp, sg = by_path.get(("candidates", k, names[0])), by_path.get(("candidates", k, names[1]))
+        if sp is None or sg is None:
+            continue
+        p0 = float(getattr(c, names[0]))
+        lo, hi = max(sp.lo, p0 / PROFILE_SPAN), min(sp.hi, p0 * PROFILE_SPAN)
+        # one grid length for every call (one compilation); clipped by a bound, it is finer
+        n = int(np.ceil(2 * np.log(PROFILE_SPAN) / np.log(PROFILE_STEP))) + 1
+        values = np.concatenate([[p0], np.geomspace(lo, hi, n)]) if lo < hi else np.array([p0, p0])
+        n_kin = kin.v.shape[0]
+        with_g, without = _profile_columns(model, k, names, jnp.asarray(values), pad_kinematics(kin))
+        X = np.asarray(with_g)[:, :n_kin] - np.asarray(without)[None, :n_kin]
+        r = np.asarray(tau, float) - np.asarray(without)[:n_kin]
+        w = np.asarray(weights, float)
+        xx, xr = np.einsum("ij,j,ij->i", X, w, X), X @ (w * r)
+        g = np.clip(xr / np.maximum(xx, 1e-300), sg.lo, sg.hi)
+        sse = np.einsum("ij,j,ij->i", r[None] - g[:, None] * X, w, r[None] - g[:, None] * X)
+        sse = np.where(np.isfinite(sse), sse, np.inf)
+        i = int(np.argmin(sse))
+        if not np.isfinite(sse[i]):
+            continue
+        model = eqx.tree_at(lambda m: (getattr(m.candidates[k], names[0]), getattr(m.candidates[k], names[1])),
+                            model, (jnp.asarray(values[i], getattr(c, names[0]).dtype),
+                                    jnp.asarray(g[i], getattr(c, names[1]).dtype)))
+    return model
+
+
+def _lm_fit(model, space, kin, tau, w, scale, max_steps):
+    x, ok, result, steps = _lm(space.values(model), space.paths, space.bounds, model, pad_kinematics(kin), pad(tau),
+                               pad(w), scale, max_steps)
+    if not bool(ok):
+        return model, {"result": result_name(RESULTS.nonfinite), "steps": int(steps)}
+    return _with_values(model, space.paths, x), {"result": result_name(promote(result)), "steps": int(steps)}
+
+
 def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_steps: int = 200):
     """Levenberg-Marquardt (:func:`lugre_jax._fit.least_squares`) on the weighted residual; returns
     (model, info).
 
     ``weights`` is 1 on training samples and 0 on held-out ones. A solver failure is reported in
     ``info['result']`` (never a silent NaN): the model returned is then the best finite one seen.
+    A candidate's profiled parameter (``AbstractCandidate.profiled``) is set by a profile on the
+    same weighted samples before LM and again after it (the baseline LM moved shifts its optimum),
+    with LM repeated when that moves it.
     """
     tau = jnp.asarray(tau)
     w = jnp.asarray(weights, dtype=tau.dtype)
     scale = jnp.asarray(float(np.std(np.asarray(tau)[np.asarray(weights) > 0])) or 1.0)
-    x, ok, result, steps = _lm(space.values(model), space.paths, space.bounds, model, pad_kinematics(kin), pad(tau),
-                               pad(w), scale, max_steps)
-    if not bool(ok):
-        return model, {"result": result_name(RESULTS.nonfinite), "steps": int(steps)}
-    return _with_values(model, space.paths, x), {"result": result_name(promote(result)), "steps": int(steps)}
+    profiles = any(type(c).profiled is not None for c in model.candidates)
+    if profiles:
+        model = _profiled(model, space, kin, tau, weights)
+    fitted, info = _lm_fit(model, space, kin, tau, w, scale, max_steps)
+    if profiles and info["result"] != result_name(RESULTS.nonfinite):
+        again = _profiled(fitted, space, kin, tau, weights)
+        if not all(float(getattr(a, type(a).profiled[0])) == float(getattr(b, type(b).profiled[0]))
+                   for a, b in zip(again.candidates, fitted.candidates) if type(a).profiled is not None):
+            fitted, info2 = _lm_fit(again, space, kin, tau, w, scale, max_steps)
+            info = {"result": info2["result"], "steps": info["steps"] + info2["steps"]}
+    return fitted, info
 
 
 @eqx.filter_jit

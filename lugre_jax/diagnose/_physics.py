@@ -277,6 +277,8 @@ class Backlash(AbstractCandidate):
     share: jax.Array = cparam("1", 1e-4, 1.0, log=True)
     id: ClassVar[str] = "backlash"
     key_params: ClassVar[dict] = {"width": 0.0, "share": 0.0}
+    # the torque changes with the width only where a sample's gap crossing ends: profiled
+    profiled: ClassVar[tuple[str, str] | None] = ("width", "share")
 
     def implausible(self, ctx):
         res = ctx.position_resolution
