@@ -3526,6 +3526,49 @@ def calib52_settings(n: int = 24):
                             [0.085, 0.055, 0.12], [0.0, 0.4, 0.0, 0.7], [0.003, 0.005], [0.0005, 0.001],
                             24100, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
+# fresh47 and calib53: the design of a437f7f (a backlash width set by its profile), frozen before
+# their first run. fresh47: rates and variations drawn as fresh46's (numpy default_rng(47)), fresh3's
+# plants, all 24 of fresh3's effect rows. calib53: three plants no earlier set used, drawn by this
+# recipe (numpy default_rng(53); per plant in turn J uniform(0.06, 0.18), Fc
+# uniform(0.5, 1.2), Fs/Fc uniform(1.3, 1.6), vs uniform(0.03, 0.07), sigma2 uniform(0.7, 1.5), sigma0
+# uniform(120, 280), sigma1 sqrt(sigma0*J)/2.5, the velocity PI's gains 48*J and 290*J; then per plant
+# the position PID's kp uniform(2.8, 3.4) to 0.1 and kd 0.002 or 0.003; then five rates uniform(150,
+# 900) Hz rounded to 5 and three torque noises uniform(0.03, 0.12) N*m), not chosen
+_F47_FS = {"a": 730.0, "b": 740.0, "c": 550.0, "d": 315.0, "e": 880.0, "f": 460.0, "g": 380.0, "h": 810.0,
+           "i": 585.0}
+_F47_VARIED = _varied(-2.0154, 1.1377, 1.8408)
+
+
+def fresh47_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 315-880 Hz (by recipe, drawn), seeds 24300 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh47", _F47_FS, _F47_VARIED, 24300)
+
+
+HUMBLE = T.Plant(J=0.061, Fc=1.003, Fs=1.404, vs=0.0673, sigma2=0.784, sigma0=227.0, sigma1=1.49)
+FRANK = T.Plant(J=0.158, Fc=0.984, Fs=1.574, vs=0.0608, sigma2=0.933, sigma0=168.0, sigma1=2.06)
+CANDID = T.Plant(J=0.132, Fc=0.941, Fs=1.274, vs=0.0612, sigma2=1.417, sigma0=233.0, sigma1=2.22)
+_add_plants({"humble": (HUMBLE, T.VelocityPIController(kp=2.9, ki=17.8)),
+             "frank": (FRANK, T.VelocityPIController(kp=7.6, ki=45.9)),
+             "candid": (CANDID, T.VelocityPIController(kp=6.3, ki=38.3))},
+            {"humble": PidTuning(2.8, 0.002),
+             "frank": PidTuning(3.0, 0.003),
+             "candid": PidTuning(2.8, 0.002)})
+
+
+def calib53_settings(n: int = 24):
+    """A fifty-third effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the velocity sensor alone in rows 0-11 and both sensors in rows 12-23, on HUMBLE,
+    FRANK and CANDID, at drawn rates 525-820 Hz and torque noise 0.04-0.119 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 24200 + i."""
+    return _effect_free_set("calib53", CALIB41_EXCITATIONS, ["humble", "frank", "candid"],
+                            [(False, True), (True, True), (True, False)], [665.0, 820.0, 755.0, 525.0, 815.0],
+                            [0.119, 0.062, 0.04], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            24200, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=1, tn_rule=(2, 5))
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3571,7 +3614,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib49": calib49_settings, "outside19": outside19_settings, "fresh43": fresh43_settings, "calib50": calib50_settings, "fresh44": fresh44_settings,
             "fresh45": fresh45_settings, "calib51": calib51_settings, "outside20": outside20_settings,
             "outside21": outside21_settings, "fresh46": fresh46_settings,
-            "calib52": calib52_settings,
+            "calib52": calib52_settings, "fresh47": fresh47_settings, "calib53": calib53_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3758,7 +3801,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
-               "outside20", "outside21", "fresh46", "calib52")
+               "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53")
 
 
 def main():
