@@ -510,7 +510,8 @@ def test_a_backlash_width_is_found_by_its_profile_where_lm_leaves_it():
     and LM leaves a width where it starts; ``fit`` profiles it (a log grid, the share solved at
     each value). Encoder step 0.001 deg, true width 0.025 deg: from starts 1.8x and 0.45x the true
     width (inside the factor 3 between the candidate's starts) the fit lands within 5 % of it,
-    while LM alone from 1.8x moves it by under 5 % (and fits worse)."""
+    while LM alone from 1.8x moves it by under 5 % (and fits worse). Its identifiability is the
+    share's, the width held."""
     import equinox as eqx
     import jax.numpy as jnp
 
@@ -541,3 +542,12 @@ def test_a_backlash_width_is_found_by_its_profile_where_lm_leaves_it():
     assert float(lm_only.candidates[0].width) == pytest.approx(1.8 * float(true.width), rel=0.05)
     fitted, _ = M.fit(start(1.8), space, kin, tau, w)
     assert np.sum((tau - M.predict(fitted, kin)) ** 2) < np.sum((tau - M.predict(lm_only, kin)) ** 2)
+    # identifiability holds the profiled width at its value: the share's Wald z with the width's
+    # column left out of the Jacobian, not the width's own z through its event-driven column
+    from lugre_jax.diagnose._select import _identifiability
+
+    z = _identifiability(fitted, space, kin, tau, w, 1.0, fitted.candidates[0])
+    held = M.FitSpace([sp for sp in space.specs if sp.name != "backlash.width"])
+    share, se_share = M.standard_errors(fitted, held, kin, tau, w, 1.0)["backlash.share"]
+    width, se_width = M.standard_errors(fitted, space, kin, tau, w, 1.0)["backlash.width"]
+    assert z == pytest.approx(share / se_share, rel=1e-9) and z != pytest.approx(width / se_width, rel=0.1)

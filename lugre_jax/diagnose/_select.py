@@ -99,7 +99,14 @@ def _cross_validated(model, specs, kin, tau, keep, blocks, fixed_phase, folds, m
 
 def _identifiability(model, space, kin, tau, w, kappa, cand, lines=None) -> float:
     """Largest |value - null| / standard error over the candidate's key parameters (joint fit);
-    for a response linear in the motion, against the kinematic error's ``lines`` fitted alongside."""
+    for a response linear in the motion, against the kinematic error's ``lines`` fitted alongside.
+    A profiled parameter (``AbstractCandidate.profiled``) is held at its profile's value: its
+    Jacobian column comes from the few samples where an event moves between samples, no local
+    linearisation of a piecewise-flat objective, so the other parameters' errors are conditional
+    on it, as the profile that set it (its own evidence is the linear parameter's)."""
+    profiled = {("candidates", k, type(c).profiled[0]) for k, c in enumerate(model.candidates)
+                if type(c).profiled is not None}
+    space = M.FitSpace([sp for sp in space.specs if sp.path not in profiled])
     try:
         se = M.standard_errors(model, space, kin, tau, w, kappa,
                                nuisance=lines if type(cand).linear_in_motion else None)
