@@ -3569,6 +3569,46 @@ def calib53_settings(n: int = 24):
                             [0.119, 0.062, 0.04], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
                             24200, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=1, tn_rule=(2, 5))
 
+# fresh48 and calib54: the design of 5697ea7 (a437f7f with a profiled width held in the
+# identifiability check), frozen before their first run; a smaller check of what that change touches.
+# fresh48: fresh3's three backlash rows at the rates drawn as fresh47's with numpy default_rng(48) and
+# default_rng(49) (six rows). calib54: twelve effect-free rows on three new plants drawn by calib53's
+# recipe (numpy default_rng(54)), not chosen
+_F48_FS = ({"a": 500.0, "b": 635.0, "c": 585.0, "d": 700.0, "e": 675.0, "f": 810.0, "g": 635.0, "h": 595.0,
+            "i": 750.0},
+           {"a": 485.0, "b": 635.0, "c": 505.0, "d": 655.0, "e": 675.0, "f": 260.0, "g": 755.0, "h": 895.0,
+            "i": 580.0})
+
+
+def fresh48_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: fresh3's backlash rows
+    (recipes a, e, f) at two draws of the rates (260-810 Hz), seeds 24400 + k and 24500 + k."""
+    return [r for i, fs in enumerate(_F48_FS)
+            for r in _refreshed(f"fresh48{'ab'[i]}", fs, {}, 24400 + 100 * i) if "backlash" in r["key"]]
+
+
+DOCILE = T.Plant(J=0.087, Fc=0.863, Fs=1.143, vs=0.0531, sigma2=0.769, sigma0=193.0, sigma1=1.64)
+EARNEST = T.Plant(J=0.14, Fc=0.59, Fs=0.931, vs=0.0673, sigma2=1.08, sigma0=234.0, sigma1=2.29)
+PATIENT = T.Plant(J=0.077, Fc=0.621, Fs=0.951, vs=0.0454, sigma2=1.359, sigma0=271.0, sigma1=1.83)
+_add_plants({"docile": (DOCILE, T.VelocityPIController(kp=4.2, ki=25.1)),
+             "earnest": (EARNEST, T.VelocityPIController(kp=6.7, ki=40.6)),
+             "patient": (PATIENT, T.VelocityPIController(kp=3.7, ki=22.4))},
+            {"docile": PidTuning(2.9, 0.002),
+             "earnest": PidTuning(3.2, 0.003),
+             "patient": PidTuning(3.3, 0.002)})
+
+
+def calib54_settings(n: int = 12):
+    """A fifty-fourth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the position sensor alone, on DOCILE, EARNEST and PATIENT, at drawn rates 170-865 Hz
+    and torque noise 0.033-0.055 N*m, white in half the rows and AR(1) of coefficient 0.5 or 0.8 in
+    the other half, quantisation 0.0005 or 0.001 deg; seeds 24600 + i."""
+    return _effect_free_set("calib54", CALIB41_EXCITATIONS, ["docile", "earnest", "patient"],
+                            [(True, False), (False, True), (True, True)], [170.0, 365.0, 615.0, 865.0, 865.0],
+                            [0.055, 0.034, 0.033], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.0005, 0.001],
+                            24600, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3615,6 +3655,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh45": fresh45_settings, "calib51": calib51_settings, "outside20": outside20_settings,
             "outside21": outside21_settings, "fresh46": fresh46_settings,
             "calib52": calib52_settings, "fresh47": fresh47_settings, "calib53": calib53_settings,
+            "fresh48": fresh48_settings, "calib54": calib54_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3801,7 +3842,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
-               "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53")
+               "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54")
 
 
 def main():
