@@ -465,9 +465,18 @@ def static_curve_basis(model: JointModel, specs: list[Spec], v) -> np.ndarray:
 
 # A profiled parameter's grid: this factor either side of its value (the candidates' starts are a
 # factor ~3 apart, so the nearest start is within it of the optimum), in steps of PROFILE_STEP (the
-# width is then known to ~2 %, well inside its standard error on a concealed effect).
+# width is then known to ~2 %, well inside its standard error on a concealed effect). One grid length
+# for every call (one compilation); clipped by a bound, the grid is finer.
 PROFILE_SPAN = 3.0
 PROFILE_STEP = 1.04
+PROFILE_POINTS = int(np.ceil(2 * np.log(PROFILE_SPAN) / np.log(PROFILE_STEP))) + 1
+
+
+def profiled_paths(model: JointModel) -> dict[int, tuple[tuple, tuple]]:
+    """Candidate index -> the paths of its (profiled, linear) parameters
+    (``AbstractCandidate.profiled``), for the candidates that declare them."""
+    return {k: tuple(("candidates", k, name) for name in type(c).profiled)
+            for k, c in enumerate(model.candidates) if type(c).profiled is not None}
 
 
 @eqx.filter_jit
@@ -475,7 +484,6 @@ def _profile_columns(model, k, names, values, kin):
     """Predicted torque with candidate ``k``'s profiled parameter at each of ``values`` and its
     linear parameter at 1 (rows), and with the linear parameter at 0 (the torque without it)."""
     p_name, g_name = names
-
     c = model.candidates[k]
 
     def at(p, g):
@@ -486,24 +494,22 @@ def _profile_columns(model, k, names, values, kin):
     return jax.vmap(lambda p: at(p, 1.0))(values), at(values[0], 0.0)
 
 
-def _profiled(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights) -> JointModel:
+def _profiled(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights) -> tuple[JointModel, bool]:
     """``model`` with each candidate's profiled parameter (``profiled``) moved to the best value of
     a log grid around it within its bounds, the linear parameter solved by weighted least squares
     (clipped to its bounds) at each; the current value is on the grid, so the weighted error never
-    rises. Parameters the fit holds fixed (not in ``space``) are left."""
+    rises. Parameters the fit holds fixed (not in ``space``) are left. Also returns whether any
+    profiled value moved."""
     by_path = {s.path: s for s in space.specs}
-    for k, c in enumerate(model.candidates):
-        names = type(c).profiled
-        if names is None:
-            continue
-        sp, sg = by_path.get(("candidates", k, names[0])), by_path.get(("candidates", k, names[1]))
+    moved = False
+    for k, (path_p, path_g) in profiled_paths(model).items():
+        sp, sg = by_path.get(path_p), by_path.get(path_g)
         if sp is None or sg is None:
             continue
+        c, names = model.candidates[k], (path_p[-1], path_g[-1])
         p0 = float(getattr(c, names[0]))
         lo, hi = max(sp.lo, p0 / PROFILE_SPAN), min(sp.hi, p0 * PROFILE_SPAN)
-        # one grid length for every call (one compilation); clipped by a bound, it is finer
-        n = int(np.ceil(2 * np.log(PROFILE_SPAN) / np.log(PROFILE_STEP))) + 1
-        values = np.concatenate([[p0], np.geomspace(lo, hi, n)]) if lo < hi else np.array([p0, p0])
+        values = np.concatenate([[p0], np.geomspace(lo, hi, PROFILE_POINTS)]) if lo < hi else np.array([p0, p0])
         n_kin = kin.v.shape[0]
         with_g, without = _profile_columns(model, k, names, jnp.asarray(values), pad_kinematics(kin))
         X = np.asarray(with_g)[:, :n_kin] - np.asarray(without)[None, :n_kin]
@@ -516,10 +522,11 @@ def _profiled(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights)
         i = int(np.argmin(sse))
         if not np.isfinite(sse[i]):
             continue
+        moved = moved or values[i] != p0
         model = eqx.tree_at(lambda m: (getattr(m.candidates[k], names[0]), getattr(m.candidates[k], names[1])),
                             model, (jnp.asarray(values[i], getattr(c, names[0]).dtype),
                                     jnp.asarray(g[i], getattr(c, names[1]).dtype)))
-    return model
+    return model, moved
 
 
 def _lm_fit(model, space, kin, tau, w, scale, max_steps):
@@ -543,14 +550,13 @@ def fit(model: JointModel, space: FitSpace, kin: Kinematics, tau, weights, max_s
     tau = jnp.asarray(tau)
     w = jnp.asarray(weights, dtype=tau.dtype)
     scale = jnp.asarray(float(np.std(np.asarray(tau)[np.asarray(weights) > 0])) or 1.0)
-    profiles = any(type(c).profiled is not None for c in model.candidates)
+    profiles = bool(profiled_paths(model))
     if profiles:
-        model = _profiled(model, space, kin, tau, weights)
+        model, _ = _profiled(model, space, kin, tau, weights)
     fitted, info = _lm_fit(model, space, kin, tau, w, scale, max_steps)
     if profiles and info["result"] != result_name(RESULTS.nonfinite):
-        again = _profiled(fitted, space, kin, tau, weights)
-        if not all(float(getattr(a, type(a).profiled[0])) == float(getattr(b, type(b).profiled[0]))
-                   for a, b in zip(again.candidates, fitted.candidates) if type(a).profiled is not None):
+        again, moved = _profiled(fitted, space, kin, tau, weights)
+        if moved:
             fitted, info2 = _lm_fit(again, space, kin, tau, w, scale, max_steps)
             info = {"result": info2["result"], "steps": info["steps"] + info2["steps"]}
     return fitted, info

@@ -104,8 +104,7 @@ def _identifiability(model, space, kin, tau, w, kappa, cand, lines=None) -> floa
     Jacobian column comes from the few samples where an event moves between samples, no local
     linearisation of a piecewise-flat objective, so the other parameters' errors are conditional
     on it, as the profile that set it (its own evidence is the linear parameter's)."""
-    profiled = {("candidates", k, type(c).profiled[0]) for k, c in enumerate(model.candidates)
-                if type(c).profiled is not None}
+    profiled = {path_p for path_p, _ in M.profiled_paths(model).values()}
     space = M.FitSpace([sp for sp in space.specs if sp.path not in profiled])
     try:
         se = M.standard_errors(model, space, kin, tau, w, kappa,
