@@ -82,7 +82,8 @@ BASELINE_KEYS = ["params", "rmse_nm", "validation_rmse_nm", "fit", "noise_floor_
                  "kinematic_noise_nm", "floor_ratio", "at_floor", "shortcoming", "conditioning",
                  "unresolved_transient_fraction", "at_rest_fraction", "fixed_phase_rmse_nm"]
 REGION_KEYS = ("test", "region", "statistic", "p_value", "p_holm", "mean_residual", "ci95", "df", "n")
-FINDING_KEYS = ["name", "explanation", "params", "validation_rmse_nm", "delta_bic", "p_validation", "p_family"]
+FINDING_KEYS = ["name", "explanation", "params", "validation_rmse_nm", "delta_bic", "p_validation", "p_family",
+                "alternatives"]
 IMPROVED_KEYS = ["params", "rmse_nm", "validation_rmse_nm", "fixed_phase_rmse_nm"]
 
 

@@ -496,3 +496,22 @@ def test_a_library_term_that_predicts_better_keeps_a_name_off(tmp_path):
     assert rep.verdict == "unexplained", rep.verdict
     assert rep.attribution["signals"][0] == "time_periodic", rep.attribution
     assert rep.attribution["validation_rmse_after_nm"] < rep.attribution["validation_rmse_before_nm"]
+
+
+@pytest.mark.parametrize("phase, tie", [(-0.3, False), (-1.3, True)])
+def test_a_gravity_the_excitation_cannot_tell_from_an_asymmetry_is_reported_with_it(phase, tie):
+    """A 0.15 N*m gravity under a +-35 deg position sine. At phase -0.3 the sine's slope spans the
+    travel: gravity is named alone (the held-out blocks reject a direction asymmetry in its place).
+    At -1.3 the travel sits near the sine's trough, where the torque is nearly constant, which while
+    sliding is a direction asymmetry: both pass every check, one is named and the other is reported
+    as its alternative, the named one predicting the held-out blocks no better at a third of alpha."""
+    g = T.generate(T.PositionSineExcitation(35.0, 0.05, duration=50.0), [T.GravityEffect(0.15, phase)],
+                   sensors=T.Sensors(fs=100.0), seed=4)
+    rep = diagnose(g.to_recording(), progress=False, candidates=["gravity", "asymmetry"])
+    assert len(rep.missing_physics) == 1, rep.selection_log
+    found = rep.missing_physics[0].to_json()
+    if not tie:
+        assert found["name"] == "gravity" and found["alternatives"] == [], found
+    else:
+        assert {found["name"]} | {a["name"] for a in found["alternatives"]} == {"gravity", "asymmetry"}, found
+        assert all(a["p_named_better"] > 0.05 / 3 for a in found["alternatives"]), found

@@ -136,7 +136,11 @@ class Finding:
     (``None`` for ``unexplained``, which is not a fit): ``p_family``, its gain against the null
     simulated for the recording, family-wise over the step's candidates (below a third of alpha);
     ``p_validation``, the held-out test cross-validated over the block phases (below a third of
-    alpha); ``delta_bic``, for information.
+    alpha); ``delta_bic``, for information. ``alternatives``: the step's other candidate that
+    passed every check in this one's place when the held-out blocks cannot tell the two apart
+    (``name``, its cross-validated ``cv_rmse_nm``, ``p_named_better``: the one-sided p-value that
+    this one predicts those blocks better, above a third of alpha); empty when the recording tells
+    them apart or no other candidate passed.
     """
 
     name: str
@@ -146,6 +150,7 @@ class Finding:
     delta_bic: float | None = None
     p_validation: float | None = None
     p_family: float | None = None
+    alternatives: tuple[dict, ...] = ()
 
     @property
     def unexplained(self) -> bool:
@@ -156,6 +161,8 @@ class Finding:
                "validation_rmse_nm": self.validation_rmse_nm}
         out.update({k: getattr(self, k) for k in ("delta_bic", "p_validation", "p_family")
                     if getattr(self, k) is not None})
+        if not self.unexplained:
+            out["alternatives"] = [dict(a) for a in self.alternatives]
         return out
 
 

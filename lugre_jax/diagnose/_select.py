@@ -716,6 +716,22 @@ class _Reference:
         return self._rivals
 
 
+def _alternatives(best, others, kin, tau, split, cfg) -> list[dict]:
+    """Of the step's other accepted candidates (``others``: each refitted in the named one's place,
+    plausible, identifiable, lowering the held-out error), those the held-out blocks cannot tell
+    from the named one: it does not predict them significantly better (one-sided, at
+    ``alpha_confirm``). The verdict keeps one name; the report says which other physics the
+    excitation leaves as likely (a gravity torque nearly constant over the angles moved through is a
+    constant torque, which while sliding is a direction asymmetry)."""
+    r_best = best["ref"].cross_validated(kin, tau, split, cfg)
+    out = []
+    for t in others:
+        p = held_out_p(t["ref"].cross_validated(kin, tau, split, cfg), r_best, split.blocks, split.cv_mask)
+        if not rejects(p, cfg.alpha_confirm):
+            out.append({"name": t["name"], "cv_rmse_nm": t["cv_rmse_nm"], "p_named_better": p})
+    return out
+
+
 def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: _Reference):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
@@ -723,8 +739,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     held out: accepted when it lowers the held-out error (cross-validated over the block phases,
     significantly at ``cfg.alpha_confirm``; the model carried forward lowers it too) and no term of
     the attribution library predicts those phases significantly better (:func:`~._attribute.rivals`).
-    Stops when no candidate is significant, none is plausible and identifiable, or the held-out test
-    fails. ``start``: the baseline as the first step's reference. Returns the final model's
+    When it is, the next significant candidate is judged alike, and of the two accepted the one with
+    the lower cross-validated error is named (the other is reported as an alternative when the
+    held-out blocks cannot tell them apart). Stops when no candidate is significant, none is
+    plausible and identifiable, or the held-out test fails. ``start``: the baseline as the first step's reference. Returns the final model's
     reference (its cross-validated residual is the report's held-out error) with the log."""
     from tqdm.auto import tqdm
 
@@ -769,7 +787,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 fitted, r1 = start, r_start
             return fitted, finfo, space, r1
 
-        for i in significant:
+        def evaluate(i, ref):
+            """Refit candidate ``i`` with the current model, judge it (plausible, identifiable,
+            lowering the held-out error against ``ref``, no library term predicting better)."""
+            nonlocal kin_lines, lines_known
             name = test.names[i]
             fitted, finfo, space, r1 = _fit_from(current, test.best_guess[i])
             cand = fitted.candidates[-1]
@@ -823,10 +844,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
                 if rivals_step:
                     p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
-                    best = int(np.argmin(p_under))
-                    g_riv, r_riv = rivals_step[best]
+                    top = int(np.argmin(p_under))
+                    g_riv, r_riv = rivals_step[top]
                     riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
-                           "p_rival": min(1.0, len(p_under) * float(p_under[best]))}
+                           "p_rival": min(1.0, len(p_under) * float(p_under[top]))}
                     if rejects(riv["p_rival"], cfg.alpha_name):
                         why = (f"the library's {g_riv.name} term predicts the held-out blocks better (cross-validated "
                                f"{cv1:.4g} -> {riv['cv_rmse_rival_nm']:.4g}, p {riv['p_rival']:.3g})")
@@ -836,19 +857,32 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             n_train = int(w.sum())
             dbic = _bic(sse1, kap1, n_train, k1) - _bic(_sse(r_cur, w), kap1, n_train, k1 - len(
                 M.candidate_specs(fitted, len(fitted.candidates) - 1, scales)))
-            trials.append({"name": name, "ref": fwd, "delta_bic": dbic,
-                           "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
-                           "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
-                           "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
-                           "identifiability_z": zmax, "rejected_because": why,
-                           "held_out_with": judged_with} | riv)
+            trial = {"name": name, "ref": fwd, "delta_bic": dbic,
+                     "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
+                     "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
+                     "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
+                     "identifiability_z": zmax, "rejected_because": why,
+                     "held_out_with": judged_with} | riv
+            return trial, beyond, fitted, space, r1
+
+        for i in significant:
+            t, beyond, fitted, space, r1 = evaluate(i, ref)
+            trials.append(t)
             if beyond and ref.refused is None:
-                ref = _Reference(fitted, space.specs, r1, refused=name)
-            if why is None or p_val is not None:
-                # one held-out test per step (p_val is set once a candidate is held out): the first
-                # plausible, identifiable candidate's result is the step's, so the test's alpha
-                # bounds the step without a correction over tries
+                ref = _Reference(fitted, space.specs, r1, refused=t["name"])
+            if t["rejected_because"] is None or t["p_validation"] is not None:
+                # one held-out test per step (p_validation is set once a candidate is held out): the
+                # first plausible, identifiable candidate's result decides whether the step names
+                # anything, so the test's alpha bounds the step without a correction over tries
                 break
+        if trials and trials[-1]["rejected_because"] is None:
+            # the step names physics; which physics: the next significant candidate is held out
+            # too, and the one that predicts the held-out blocks better is named (a tie in the
+            # linearised gains is not a tie in the refitted models, and the gain's order can
+            # be wrong where two shapes share most of the residual)
+            k = significant.index(test.names.index(trials[-1]["name"]))
+            if k + 1 < len(significant):
+                trials.append(evaluate(significant[k + 1], ref)[0])
         log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
                     "alpha_held_out": cfg.alpha_confirm,
                     "tests": test.to_json(),
@@ -860,7 +894,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
         ok = [t for t in trials if t["rejected_because"] is None]
         if not ok:
             break
-        best = ok[0]
+        best = min(ok, key=lambda t: t["cv_rmse_nm"])
+        best["alternatives"] = _alternatives(best, [t for t in ok if t is not best], kin, tau, split, cfg)
         accepted.append((best["name"], best))
         cur_ref = best["ref"]
         bar.update(1)
@@ -972,10 +1007,12 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
     remaining = tuple(Region.from_test(x) for x in loc_cur["located"])
     # a finding's parameters are those of the final joint model; its evidence stays that of its step
     ctx_final = _context(prep, split, floor, current, r_cur, cfg, loc_cur)
+    named = {name for name, _ in accepted}  # a runner-up named at a later step is not an alternative
     missing = [Finding(name=name, explanation=type(c).explanation, params=c.describe(ctx_final),
                        validation_rmse_nm=_rms(t["ref"].cross_validated(kin, np.asarray(rec.torque), split, cfg),
                                                     split.cv_mask), delta_bic=t["delta_bic"],
-                       p_validation=t["p_validation"], p_family=t["p_family"])
+                       p_validation=t["p_validation"], p_family=t["p_family"],
+                       alternatives=tuple(a for a in t.get("alternatives", ()) if a["name"] not in named))
                for (name, t), c in zip(accepted, current.candidates, strict=True)]
     if remaining or attribution.found:
         words = ("Residual structure remains" + (" where listed" if remaining else "")
