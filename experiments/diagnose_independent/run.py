@@ -3609,6 +3609,45 @@ def calib54_settings(n: int = 12):
                             [0.055, 0.034, 0.033], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.0005, 0.001],
                             24600, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
+# fresh49 and calib55: the design of e0edcfc (a step's runner-up judged alike, the better held-out
+# predictor named, the other reported as an alternative), frozen before their first run. fresh49:
+# fresh3's 24 effect rows at rates and variations drawn as fresh47's with numpy default_rng(50) (the
+# next seed no set drew rates with). calib55: twelve effect-free rows, both sensors, on three new
+# plants drawn by calib53's recipe (numpy default_rng(55)), not chosen
+_F49_FS = {"a": 760.0, "b": 790.0, "c": 605.0, "d": 885.0, "e": 405.0, "f": 670.0, "g": 290.0, "h": 610.0,
+           "i": 510.0}
+_F49_VARIED = _varied(-1.4705, 1.244, -0.6452)
+
+
+def fresh49_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 290-885 Hz (by recipe, drawn), seeds 24700 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh49", _F49_FS, _F49_VARIED, 24700)
+
+
+PRUDENT = T.Plant(J=0.16, Fc=1.109, Fs=1.515, vs=0.0392, sigma2=1.094, sigma0=241.0, sigma1=2.48)
+THRIFTY = T.Plant(J=0.145, Fc=1.163, Fs=1.535, vs=0.0496, sigma2=0.971, sigma0=216.0, sigma1=2.24)
+SINCERE = T.Plant(J=0.065, Fc=0.738, Fs=0.977, vs=0.0688, sigma2=1.171, sigma0=201.0, sigma1=1.45)
+_add_plants({"prudent": (PRUDENT, T.VelocityPIController(kp=7.7, ki=46.4)),
+             "thrifty": (THRIFTY, T.VelocityPIController(kp=6.9, ki=41.9)),
+             "sincere": (SINCERE, T.VelocityPIController(kp=3.1, ki=18.9))},
+            {"prudent": PidTuning(3.4, 0.003),
+             "thrifty": PidTuning(3.1, 0.002),
+             "sincere": PidTuning(3.1, 0.002)})
+
+
+def calib55_settings(n: int = 12):
+    """A fifty-fifth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), both sensors, on PRUDENT, THRIFTY and SINCERE, at drawn rates 170-590 Hz and torque
+    noise 0.058-0.099 N*m, white in half the rows and AR(1) of coefficient 0.5 or 0.8 in the other
+    half, velocity noise 0.002 or 0.006 deg/s, quantisation 0.001 or 0.0005 deg; seeds 24800 + i."""
+    return _effect_free_set("calib55", CALIB41_EXCITATIONS, ["prudent", "thrifty", "sincere"],
+                            [(True, True), (False, True), (True, False)], [170.0, 380.0, 590.0, 585.0, 285.0],
+                            [0.058, 0.099, 0.06], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            24800, n, loops=("pi", "pid"), nff=2, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3656,6 +3695,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside21": outside21_settings, "fresh46": fresh46_settings,
             "calib52": calib52_settings, "fresh47": fresh47_settings, "calib53": calib53_settings,
             "fresh48": fresh48_settings, "calib54": calib54_settings,
+            "fresh49": fresh49_settings, "calib55": calib55_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3842,7 +3882,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh38", "outside15", "calib41", "calib42", "fresh39", "outside16", "calib43",
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
-               "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54")
+               "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
+               "fresh49", "calib55")
 
 
 def main():
