@@ -135,12 +135,12 @@ class Finding:
     for ``unexplained``, the final model's). The evidence it was accepted on at that step
     (``None`` for ``unexplained``, which is not a fit): ``p_family``, its gain against the null
     simulated for the recording, family-wise over the step's candidates (below a third of alpha);
-    ``p_validation``, the held-out test cross-validated over the block phases (below a third of
-    alpha); ``delta_bic``, for information. ``alternatives``: the step's other candidate that
-    passed every check in this one's place when the held-out blocks cannot tell the two apart
-    (``name``, its cross-validated ``cv_rmse_nm``, ``p_named_better``: the one-sided p-value that
-    this one predicts those blocks better, above a third of alpha); empty when the recording tells
-    them apart or no other candidate passed.
+    ``p_validation``, the held-out test cross-validated over the block phases (below alpha,
+    ``alpha_confirm``); ``delta_bic``, for information. ``alternatives``: the step's other
+    candidate that passed every check in this one's place when the held-out blocks cannot tell the
+    two apart (``name``, its cross-validated ``cv_rmse_nm``, ``p_named_better``: the one-sided
+    p-value that this one predicts those blocks better, above alpha); empty when the recording
+    tells them apart or no other candidate passed.
     """
 
     name: str

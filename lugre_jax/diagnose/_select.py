@@ -742,8 +742,9 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     When it is, the next significant candidate is judged alike, and of the two accepted the one with
     the lower cross-validated error is named (the other is reported as an alternative when the
     held-out blocks cannot tell them apart). Stops when no candidate is significant, none is
-    plausible and identifiable, or the held-out test fails. ``start``: the baseline as the first step's reference. Returns the final model's
-    reference (its cross-validated residual is the report's held-out error) with the log."""
+    plausible and identifiable, or the held-out test fails. ``start``: the baseline as the first
+    step's reference. Returns the final model's reference (its cross-validated residual is the
+    report's held-out error) with the log."""
     from tqdm.auto import tqdm
 
     from ._calibrate import test_candidates
