@@ -3648,6 +3648,18 @@ def calib55_settings(n: int = 12):
                             [0.058, 0.099, 0.06], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
                             24800, n, loops=("pi", "pid"), nff=2, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
+# outside22: the design of e0edcfc, frozen before its first run; outside14's rows on calib55's
+# plants, rates drawn (numpy default_rng(22): uniform(200, 800) Hz rounded to 5, rows a-h), not chosen
+_OUT22_RECIPES = _outside14_on({"gritty": "prudent", "sprightly": "thrifty", "stolid": "sincere"},
+                               (420.0, 320.0, 255.0, 590.0, 475.0, 795.0, 710.0, 700.0))
+
+
+def outside22_settings():
+    """A twenty-second outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on PRUDENT, THRIFTY and SINCERE, at drawn rates (255-795 Hz) and seeds 24900 + k."""
+    return _outside_set("outside22_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT22_RECIPES, 24900)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3696,6 +3708,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "calib52": calib52_settings, "fresh47": fresh47_settings, "calib53": calib53_settings,
             "fresh48": fresh48_settings, "calib54": calib54_settings,
             "fresh49": fresh49_settings, "calib55": calib55_settings,
+            "outside22": outside22_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3883,7 +3896,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
-               "fresh49", "calib55")
+               "fresh49", "calib55", "outside22")
 
 
 def main():
