@@ -2281,12 +2281,16 @@ _OUT9_RECIPES = {
 }
 
 
+# outside5's rows with the lag a shortened to 1.4 ms (outside9 and every outside set after it)
+OUTSIDE9_ROWS = _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}})
+
+
 def outside9_settings():
     """A ninth outside set (issue #31), fixed and committed before its first run: outside5's rows
     (the four effects outside the candidates, two recordings each) on WISPY, REEDY and PLUMP, at
     excitation parameters, rates and seeds (17900 + k) no earlier set used; the lag a shortened to 1.4 ms,
     so that on WISPY its peak stays below the per-sample noise (2 ms gives 1.26 of it)."""
-    return _outside_set("outside9_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT9_RECIPES, 17900)
+    return _outside_set("outside9_", OUTSIDE9_ROWS, _OUT9_RECIPES, 17900)
 
 
 # calib31 and fresh30: the design of 5722a70 (the attribution's margin back), unchanged since; three
@@ -2582,7 +2586,7 @@ def outside10_settings():
     """A tenth outside set (issue #31), fixed and committed before its first run: outside9's rows (the
     four effects outside the candidates, two recordings each, the lag a 1.4 ms) on BONEY, TUBBY and
     CHONKY, at excitation parameters, rates and seeds (19600 + k) no earlier set used."""
-    return _outside_set("outside10_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT10_RECIPES, 19600)
+    return _outside_set("outside10_", OUTSIDE9_ROWS, _OUT10_RECIPES, 19600)
 
 
 _F33_FS = {"a": 330.0, "b": 410.0, "c": 295.0, "d": 500.0, "e": 355.0, "f": 390.0, "g": 345.0, "h": 300.0,
@@ -2675,7 +2679,7 @@ def outside11_settings():
     """An eleventh outside set (issue #31), fixed and committed before its first run: outside10's rows
     (the four effects outside the candidates, two recordings each, the lag a 1.4 ms) on PETITE, BRICKY
     and ROTUNDA, at excitation parameters, rates and seeds (20000 + k) no earlier set used."""
-    return _outside_set("outside11_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT11_RECIPES, 20000)
+    return _outside_set("outside11_", OUTSIDE9_ROWS, _OUT11_RECIPES, 20000)
 
 
 # calib37, outside12 and fresh35: the attribution held out over the block phases as the selection's
@@ -2742,7 +2746,7 @@ def outside12_settings():
     """A twelfth outside set (issue #31), fixed and committed before its first run: outside10's rows
     (the four effects outside the candidates, two recordings each, the lag a 1.4 ms) on KNOBBY, LUMPY
     and SLIGHT, at excitation parameters, rates and seeds (20200 + k) no earlier set used."""
-    return _outside_set("outside12_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT12_RECIPES, 20200)
+    return _outside_set("outside12_", OUTSIDE9_ROWS, _OUT12_RECIPES, 20200)
 
 
 _F35_FS = {"a": 345.0, "b": 395.0, "c": 305.0, "d": 460.0, "e": 325.0, "f": 415.0, "g": 355.0, "h": 290.0,
@@ -2824,7 +2828,7 @@ def outside13_settings():
     """A thirteenth outside set (issue #31), fixed and committed before its first run: outside10's rows
     (the four effects outside the candidates, two recordings each, the lag a 1.4 ms) on SKINNY, PUDGY
     and BOXY, at excitation parameters, rates and seeds (20500 + k) no earlier set used."""
-    return _outside_set("outside13_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT13_RECIPES, 20500)
+    return _outside_set("outside13_", OUTSIDE9_ROWS, _OUT13_RECIPES, 20500)
 
 
 _F36_FS = {"a": 350.0, "b": 300.0, "c": 455.0, "d": 325.0, "e": 480.0, "f": 340.0, "g": 395.0, "h": 360.0,
@@ -2931,7 +2935,7 @@ def outside14_settings():
     """A fourteenth outside set (issue #31), fixed and committed before its first run: outside13's rows
     (the four effects outside the candidates, two recordings each) on GRITTY, SPRIGHTLY and STOLID,
     at excitation parameters, rates and seeds (20900 + k) no earlier set used."""
-    return _outside_set("outside14_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT14_RECIPES, 20900)
+    return _outside_set("outside14_", OUTSIDE9_ROWS, _OUT14_RECIPES, 20900)
 
 
 CALIB40_EXCITATIONS = {
@@ -3004,7 +3008,7 @@ _OUT15_RECIPES = _outside14_on({"gritty": "plucky", "sprightly": "fleet", "stoli
 def outside15_settings():
     """A fifteenth outside set (issue #31), fixed and committed before its first run: outside14's rows
     and excitations on PLUCKY, FLEET and DOUR, at drawn rates (210-770 Hz) and seeds 21500 + k."""
-    return _outside_set("outside15_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT15_RECIPES, 21500)
+    return _outside_set("outside15_", OUTSIDE9_ROWS, _OUT15_RECIPES, 21500)
 
 
 CALIB41_EXCITATIONS = {
@@ -3111,7 +3115,7 @@ _OUT16_RECIPES = _outside14_on({"gritty": "dapper", "sprightly": "jaunty", "stol
 def outside16_settings():
     """A sixteenth outside set (issue #31), fixed and committed before its first run: outside14's rows
     and excitations on DAPPER, JAUNTY and LIMBER, at drawn rates (210-775 Hz) and seeds 21900 + k."""
-    return _outside_set("outside16_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT16_RECIPES, 21900)
+    return _outside_set("outside16_", OUTSIDE9_ROWS, _OUT16_RECIPES, 21900)
 
 
 def calib43_settings(n: int = 24):
@@ -3160,7 +3164,7 @@ _OUT17_RECIPES = _outside14_on({"gritty": "slack", "sprightly": "rigid", "stolid
 def outside17_settings():
     """A seventeenth outside set (issue #31), fixed and committed before its first run: outside14's
     rows and excitations on SLACK, RIGID and MELLOW, at drawn rates (235-750 Hz) and seeds 22200 + k."""
-    return _outside_set("outside17_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT17_RECIPES, 22200)
+    return _outside_set("outside17_", OUTSIDE9_ROWS, _OUT17_RECIPES, 22200)
 
 
 def calib44_settings(n: int = 24):
@@ -3295,7 +3299,7 @@ _OUT18_RECIPES = _outside14_on({"gritty": "lucid", "sprightly": "terse", "stolid
 def outside18_settings():
     """An eighteenth outside set (issue #31), fixed and committed before its first run: outside14's
     rows and excitations on LUCID, TERSE and AMPLE, at drawn rates (250-780 Hz) and seeds 22900 + k."""
-    return _outside_set("outside18_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT18_RECIPES, 22900)
+    return _outside_set("outside18_", OUTSIDE9_ROWS, _OUT18_RECIPES, 22900)
 
 
 # calib48: the design of best_start (2abc6a8), frozen before its first run; every row white torque
@@ -3361,7 +3365,7 @@ _OUT19_RECIPES = _outside14_on({"gritty": "mild", "sprightly": "prim", "stolid":
 def outside19_settings():
     """A nineteenth outside set (issue #31), fixed and committed before its first run: outside14's
     rows and excitations on MILD, PRIM and SWIFT, at drawn rates (235-755 Hz) and seeds 23100 + k."""
-    return _outside_set("outside19_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT19_RECIPES, 23100)
+    return _outside_set("outside19_", OUTSIDE9_ROWS, _OUT19_RECIPES, 23100)
 
 # fresh43: the design of b17e381 (the attribution confirmed cross-validated, family-wise), frozen
 # before its first run; rates and variations drawn as fresh41's (numpy default_rng(43)), not chosen;
@@ -3476,13 +3480,13 @@ _OUT21_RECIPES = _outside14_on({"gritty": "calm", "sprightly": "stern", "stolid"
 def outside20_settings():
     """A twentieth outside set (issue #31), fixed and committed before its first run: outside14's
     rows and excitations on SEDATE, PLACID and SERENE, at drawn rates (245-790 Hz) and seeds 23800 + k."""
-    return _outside_set("outside20_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT20_RECIPES, 23800)
+    return _outside_set("outside20_", OUTSIDE9_ROWS, _OUT20_RECIPES, 23800)
 
 
 def outside21_settings():
     """A twenty-first outside set (issue #31), fixed and committed before its first run: outside14's
     rows and excitations on CALM, STERN and ARDENT, at drawn rates (255-790 Hz) and seeds 23900 + k."""
-    return _outside_set("outside21_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT21_RECIPES, 23900)
+    return _outside_set("outside21_", OUTSIDE9_ROWS, _OUT21_RECIPES, 23900)
 
 
 # fresh46: the design of 046cd8f (verdicts as bb870a6's), frozen before its first run; rates and
@@ -3657,7 +3661,7 @@ _OUT22_RECIPES = _outside14_on({"gritty": "prudent", "sprightly": "thrifty", "st
 def outside22_settings():
     """A twenty-second outside set (issue #31), fixed and committed before its first run: outside14's
     rows and excitations on PRUDENT, THRIFTY and SINCERE, at drawn rates (255-795 Hz) and seeds 24900 + k."""
-    return _outside_set("outside22_", _resized(OUTSIDE5_ROWS, {"a": {"T": 0.0014}}), _OUT22_RECIPES, 24900)
+    return _outside_set("outside22_", OUTSIDE9_ROWS, _OUT22_RECIPES, 24900)
 
 
 # each study's rows, fixed before its first run
