@@ -83,7 +83,9 @@ class DiagnoseConfig:
       samples, where it is beyond that change's noise at ``alpha`` family-wise) is below this share
       of the torque noise; elsewhere (a sharp transient seen through a
       long window) the torque is not known from the samples, and the sample leaves the fit, the
-      validation and the tests. The same share bounds a held-out sample's prediction error (its
+      validation and the tests; so does a sample whose model torque the kinematics' noise alone
+      (the kinematic draws through the fitted baseline, rms) moves by more than this share. The
+      same share bounds a held-out sample's prediction error (its
       leverage under the training blocks) and the model torque's third differences kept out of the
       torque-noise estimate. A bias of half the noise adds at most a quarter of the noise variance
       where the bound is reached, and the bound is an upper one.

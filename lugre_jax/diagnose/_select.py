@@ -387,9 +387,43 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
+    # the sensors' noise through the fitted model: samples where it alone moves the model torque by
+    # more than the share the smoothing's bias may take leave the fit, which is repeated without them
+    noisy = _kinematic_noise_unresolved(rec, cond, path, base, kin, split.blocks, cfg) & ~unresolved
+    split_noisy = None
+    if np.any(noisy):
+        try:
+            split_noisy = _split(crec, cond, unresolved | noisy, cfg)
+        except ValueError:
+            pass  # too few samples left without them: the fit stands, its floor carries their noise
+    if split_noisy is not None:
+        unresolved = unresolved | noisy
+        split = split_noisy
+        base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
+                                            fit_offset, params, noise=cond.torque_noise, cfg=cfg)
+        info = {**info, **info_b, "kinematic_noise_unresolved": int(noisy.sum())}
+        path = list(paths)[k_path]
+        kin = paths[path]
+        info["bristle_path"] = path
     k = len(M.baseline_specs(base, M.data_scales(crec), fit_offset)) if params is None or refit else 0
     lines = motion_lines(np.asarray(rec.time, float), np.asarray(kin.v, float), cfg.alpha_attribute)
     return Prepared(rec, crec, cond, unresolved, kin, path, base, info, k, rest, lines), split
+
+
+def _kinematic_noise_unresolved(rec, cond, path, base, kin, blocks, cfg) -> np.ndarray:
+    """Samples whose model torque the kinematics' noise moves by more than ``cfg.resolved_share`` of
+    the torque noise: the rms over the kinematic draws (fresh sensor noise, a quantised position
+    re-quantised on a shifted grid, each conditioned as the recording) of the fitted ``base``'s
+    torque on them less its torque on the recording's kinematics. There the sensors do not determine
+    the torque (creep within a few encoder steps of the bristles' pre-sliding length, say), and a
+    least-squares fit over those samples is biased by errors in variables, as it is where the
+    smoothing's bias is that large; the share is the smoothing rule's."""
+    from ._calibrate import null_model
+
+    d = null_model(rec, cond, path, cfg.kinematic_draws, blocks).kinematic_errors(base, kin)
+    if d.shape[0] == 0:
+        return np.zeros(d.shape[1], bool)
+    return np.sqrt(np.mean(d ** 2, axis=0)) > cfg.resolved_share * float(cond.torque_noise)
 
 
 def _predicts_better(old, new, fewest: int) -> bool:
