@@ -3664,6 +3664,58 @@ def outside22_settings():
     return _outside_set("outside22_", OUTSIDE9_ROWS, _OUT22_RECIPES, 24900)
 
 
+# fresh50, calib56 and outside23: the design that leaves out samples whose model torque the
+# kinematics' noise moves by more than half the torque noise, frozen before their first run.
+# fresh50: fresh3's 24 effect rows at rates and variations drawn as fresh41's with numpy
+# default_rng(56) (the next seed no set drew with). calib56: 24 effect-free rows, the position
+# sensor alone in rows 0-11 and both sensors in rows 12-23, on three new plants drawn by calib53's
+# recipe (numpy default_rng(57)). outside23: outside14's rows on calib56's plants, rates drawn as
+# outside22's (numpy default_rng(23)). None chosen
+_F50_FS = {"a": 720.0, "b": 260.0, "c": 890.0, "d": 720.0, "e": 605.0, "f": 405.0, "g": 645.0, "h": 485.0,
+           "i": 635.0}
+_F50_VARIED = _varied(-1.5015, 0.8138, 0.5874)
+
+
+def fresh50_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 260-890 Hz (by recipe, drawn), seeds 25000 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh50", _F50_FS, _F50_VARIED, 25000)
+
+
+CANNY = T.Plant(J=0.142, Fc=0.828, Fs=1.285, vs=0.0436, sigma2=1.015, sigma0=145.0, sigma1=1.82)
+PLAIN = T.Plant(J=0.112, Fc=1.008, Fs=1.399, vs=0.0435, sigma2=0.85, sigma0=197.0, sigma1=1.88)
+FRUGAL = T.Plant(J=0.174, Fc=1.173, Fs=1.718, vs=0.0558, sigma2=0.757, sigma0=160.0, sigma1=2.11)
+_add_plants({"canny": (CANNY, T.VelocityPIController(kp=6.8, ki=41.2)),
+             "plain": (PLAIN, T.VelocityPIController(kp=5.4, ki=32.3)),
+             "frugal": (FRUGAL, T.VelocityPIController(kp=8.3, ki=50.4))},
+            {"canny": PidTuning(3.1, 0.003),
+             "plain": PidTuning(3.0, 0.002),
+             "frugal": PidTuning(3.3, 0.003)})
+
+
+def calib56_settings(n: int = 24):
+    """A fifty-sixth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the position sensor alone in rows 0-11 and both sensors in rows 12-23, on CANNY,
+    PLAIN and FRUGAL, at drawn rates 330-825 Hz and torque noise 0.036-0.107 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 25100 + i."""
+    return _effect_free_set("calib56", CALIB41_EXCITATIONS, ["canny", "plain", "frugal"],
+                            [(True, False), (True, True), (False, True)], [590.0, 545.0, 660.0, 330.0, 825.0],
+                            [0.107, 0.098, 0.036], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            25100, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
+_OUT23_RECIPES = _outside14_on({"gritty": "canny", "sprightly": "plain", "stolid": "frugal"},
+                               (615.0, 585.0, 275.0, 270.0, 590.0, 710.0, 320.0, 330.0))
+
+
+def outside23_settings():
+    """A twenty-third outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on CANNY, PLAIN and FRUGAL, at drawn rates (270-710 Hz) and seeds 25200 + k."""
+    return _outside_set("outside23_", OUTSIDE9_ROWS, _OUT23_RECIPES, 25200)
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3713,6 +3765,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh48": fresh48_settings, "calib54": calib54_settings,
             "fresh49": fresh49_settings, "calib55": calib55_settings,
             "outside22": outside22_settings,
+            "fresh50": fresh50_settings, "calib56": calib56_settings, "outside23": outside23_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3900,7 +3953,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh40", "outside17", "calib44", "calib45", "fresh41", "calib46", "fresh42", "calib47",
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
-               "fresh49", "calib55", "outside22")
+               "fresh49", "calib55", "outside22",
+               "fresh50", "calib56", "outside23")
 
 
 def main():
