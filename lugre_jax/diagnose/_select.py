@@ -367,41 +367,28 @@ def _prepare(rec, cfg, params, friction, fit_offset, refit: bool = False) -> tup
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
-    # the smoothing-bias rule again, through the fitted model's whole torque (near slow reversals the
-    # friction's, not the inertia's): samples it adds leave the fit, which is repeated without them
-    smoothed = model_bias_unresolved(rec, cond, kin, lambda k_: M.predict(base, k_), cfg.resolved_share) & ~unresolved
-    split_smoothed = None
-    if np.any(smoothed):
+    # samples that leave the fit after it, each rule read through the baseline fitted before it and
+    # the fit repeated without them (too few left to fit: the fit stands, and its floor carries what
+    # they hold, which shows as excess over it, not as a refusal): the smoothing-bias rule again,
+    # through the fitted model's whole torque (near slow reversals the friction's, not the
+    # inertia's); then the sensors' noise through the fitted model, where it alone moves the model
+    # torque by more than the share the smoothing's bias may take
+    rules = (("model_bias_unresolved",
+              lambda: model_bias_unresolved(rec, cond, kin, lambda k_: M.predict(base, k_), cfg.resolved_share)),
+             ("kinematic_noise_unresolved",
+              lambda: _kinematic_noise_unresolved(rec, cond, path, base, kin, split.blocks, cfg)))
+    for key, rule in rules:
+        extra = rule() & ~unresolved
+        if not np.any(extra):
+            continue
         try:
-            split_smoothed = _split(crec, cond, unresolved | smoothed, cfg)
+            split_new = _split(crec, cond, unresolved | extra, cfg)
         except ValueError:
-            # too few samples left to fit without them: the first fit stands (its floor then
-            # carries the bias, which shows as excess over it, not as a refusal)
-            pass
-    if split_smoothed is not None:
-        unresolved = unresolved | smoothed
-        split = split_smoothed
+            continue
+        unresolved, split = unresolved | extra, split_new
         base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
                                             fit_offset, params, noise=cond.torque_noise, cfg=cfg)
-        info = {**info, **info_b, "model_bias_unresolved": int(smoothed.sum())}
-        path = list(paths)[k_path]
-        kin = paths[path]
-        info["bristle_path"] = path
-    # the sensors' noise through the fitted model: samples where it alone moves the model torque by
-    # more than the share the smoothing's bias may take leave the fit, which is repeated without them
-    noisy = _kinematic_noise_unresolved(rec, cond, path, base, kin, split.blocks, cfg) & ~unresolved
-    split_noisy = None
-    if np.any(noisy):
-        try:
-            split_noisy = _split(crec, cond, unresolved | noisy, cfg)
-        except ValueError:
-            pass  # too few samples left without them: the fit stands, its floor carries their noise
-    if split_noisy is not None:
-        unresolved = unresolved | noisy
-        split = split_noisy
-        base, info_b, k_path = fit_baseline(crec, list(paths.values()), split.w, M.data_scales(crec), friction,
-                                            fit_offset, params, noise=cond.torque_noise, cfg=cfg)
-        info = {**info, **info_b, "kinematic_noise_unresolved": int(noisy.sum())}
+        info = {**info, **info_b, key: int(extra.sum())}
         path = list(paths)[k_path]
         kin = paths[path]
         info["bristle_path"] = path
