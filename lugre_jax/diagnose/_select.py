@@ -407,9 +407,8 @@ def _kinematic_noise_unresolved(rec, cond, path, base, kin, blocks, cfg) -> np.n
     smoothing's bias is that large; the share is the smoothing rule's."""
     from ._calibrate import null_model
 
+    # DiagnoseConfig holds kinematic_draws >= 1, so there is always a draw
     d = null_model(rec, cond, path, cfg.kinematic_draws, blocks).kinematic_errors(base, kin)
-    if d.shape[0] == 0:
-        return np.zeros(d.shape[1], bool)
     return np.sqrt(np.mean(d ** 2, axis=0)) > cfg.resolved_share * float(cond.torque_noise)
 
 
