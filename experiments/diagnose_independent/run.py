@@ -3716,6 +3716,46 @@ def outside23_settings():
     rows and excitations on CANNY, PLAIN and FRUGAL, at drawn rates (270-710 Hz) and seeds 25200 + k."""
     return _outside_set("outside23_", OUTSIDE9_ROWS, _OUT23_RECIPES, 25200)
 
+# fresh51 and calib57: the design of 94244b1 (behaviour as 2a31338's), a second check, frozen before
+# their first run. fresh51: rates and variations drawn as fresh50's with numpy default_rng(59).
+# calib57: three plants no earlier set used, drawn by calib53's recipe (numpy default_rng(58)), the
+# velocity sensor alone in rows 0-11 and both sensors in rows 12-23. None chosen
+_F51_FS = {"a": 630.0, "b": 785.0, "c": 325.0, "d": 495.0, "e": 370.0, "f": 355.0, "g": 255.0, "h": 880.0,
+           "i": 315.0}
+_F51_VARIED = _varied(2.7302, 0.9918, 1.2970)
+
+
+def fresh51_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 255-880 Hz (by recipe, drawn), seeds 25400 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh51", _F51_FS, _F51_VARIED, 25400)
+
+
+WARY = T.Plant(J=0.097, Fc=1.116, Fs=1.532, vs=0.0383, sigma2=1.377, sigma0=142.0, sigma1=1.49)
+ASTUTE = T.Plant(J=0.097, Fc=0.597, Fs=0.87, vs=0.067, sigma2=1.127, sigma0=163.0, sigma1=1.59)
+SHREWD = T.Plant(J=0.174, Fc=0.795, Fs=1.096, vs=0.0524, sigma2=1.454, sigma0=262.0, sigma1=2.7)
+_add_plants({"wary": (WARY, T.VelocityPIController(kp=4.7, ki=28.2)),
+             "astute": (ASTUTE, T.VelocityPIController(kp=4.6, ki=28.0)),
+             "shrewd": (SHREWD, T.VelocityPIController(kp=8.4, ki=50.5))},
+            {"wary": PidTuning(3.1, 0.003),
+             "astute": PidTuning(3.1, 0.002),
+             "shrewd": PidTuning(2.8, 0.002)})
+
+
+def calib57_settings(n: int = 24):
+    """A fifty-seventh effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the velocity sensor alone in rows 0-11 and both sensors in rows 12-23, on WARY,
+    ASTUTE and SHREWD, at drawn rates 220-785 Hz and torque noise 0.033-0.065 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 25300 + i."""
+    return _effect_free_set("calib57", CALIB41_EXCITATIONS, ["wary", "astute", "shrewd"],
+                            [(False, True), (True, True), (True, False)], [220.0, 270.0, 785.0, 265.0, 495.0],
+                            [0.033, 0.065, 0.063], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            25300, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=1, tn_rule=(2, 5))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3766,6 +3806,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh49": fresh49_settings, "calib55": calib55_settings,
             "outside22": outside22_settings,
             "fresh50": fresh50_settings, "calib56": calib56_settings, "outside23": outside23_settings,
+            "fresh51": fresh51_settings, "calib57": calib57_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3954,7 +3995,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
-               "fresh50", "calib56", "outside23")
+               "fresh50", "calib56", "outside23", "fresh51", "calib57")
 
 
 def main():
