@@ -19,9 +19,10 @@ recording's columns share its kinematic errors with its residual, and so must a 
 candidates whose starting points are searched on the residual (a ripple's period, a resonance's
 frequency) the search is repeated on the draw's own residual, so the null includes the
 look-elsewhere effect.
-Family-wise control over the candidates of a step is Westfall-Young's min-P: each gain is put
-on the scale of its own null's tail probability, and a candidate's adjusted p-value is the share
-of draws whose smallest tail probability over all candidates is at most its own (:func:`min_p`).
+Family-wise control over the candidates of a step is Westfall-Young's step-down min-P: each gain is
+put on the scale of its own null's tail probability, and a candidate's adjusted p-value is the share
+of draws whose smallest tail probability over it and the candidates less significant than it is at
+most its own (:func:`min_p`).
 """
 
 from __future__ import annotations
@@ -304,19 +305,29 @@ def min_p(obs: np.ndarray, T: np.ndarray, tail=chi2_log_sf):
     """Raw and family-wise p-values of the observed statistics ``obs`` against null draws ``T``
     (draws x tests), and each statistic over its null mean (``standardised``, for the report).
 
-    Family-wise control is Westfall-Young's min-P: every statistic, observed and drawn, is turned
-    into its tail probability under its own null (``tail``: :func:`chi2_log_sf` for gains, which are
-    never negative; :func:`normal_log_sf` for held-out gains), and a test's adjusted
-    p-value is the share of draws whose smallest tail probability over all tests is at most its
-    own. Tail probabilities, unlike gains over their null mean, weigh tests of different degrees of
-    freedom alike: a one-column candidate's heavy relative tail does not set the bar for a
-    six-column one. Never below the raw p-value; resolution ``1/(draws + 1)``."""
+    Family-wise control is Westfall-Young's step-down min-P (Westfall and Young 1993, algorithm
+    2.8): every statistic, observed and drawn, is turned into its tail probability under its own
+    null (``tail``: :func:`chi2_log_sf` for gains, which are never negative; :func:`normal_log_sf`
+    for held-out gains); the tests are ordered from the most significant, and the k-th one's
+    adjusted p-value is the share of draws whose smallest tail probability over the k-th and every
+    less significant test is at most its own, made non-decreasing along that order. The most
+    significant test's p-value is single-step min-P's, so the chance that any test rejects when no
+    test has an effect is unchanged; a test behind others whose effects are real is no longer held
+    to their minimum (strong family-wise control either way). Tail probabilities, unlike gains over
+    their null mean, weigh tests of different degrees of freedom alike: a one-column candidate's
+    heavy relative tail does not set the bar for a six-column one. Never below the raw p-value;
+    resolution ``1/(draws + 1)``."""
     B = T.shape[0]
     p_raw = (1.0 + np.sum(T >= obs[None, :], axis=0)) / (B + 1.0)
     scale = np.maximum(np.mean(T, axis=0), 1e-300)
     lp_obs, lp_null = tail(obs, T), tail(T, T)
-    p_adj = (1.0 + np.sum(np.min(lp_null, axis=1)[:, None] <= lp_obs[None, :], axis=0)) / (B + 1.0)
-    return p_raw, np.maximum(p_adj, p_raw), obs / scale
+    order = np.argsort(lp_obs, kind="stable")
+    # per draw, the smallest tail probability over each test and those after it in the order
+    tail_min = np.minimum.accumulate(lp_null[:, order[::-1]], axis=1)[:, ::-1]
+    p_step = (1.0 + np.sum(tail_min <= lp_obs[order][None, :], axis=0)) / (B + 1.0)
+    p_adj = np.empty_like(p_step)
+    p_adj[order] = np.maximum.accumulate(np.maximum(p_step, p_raw[order]))
+    return p_raw, p_adj, obs / scale
 
 
 @dataclasses.dataclass(frozen=True)
