@@ -3716,8 +3716,8 @@ def outside23_settings():
     rows and excitations on CANNY, PLAIN and FRUGAL, at drawn rates (270-710 Hz) and seeds 25200 + k."""
     return _outside_set("outside23_", OUTSIDE9_ROWS, _OUT23_RECIPES, 25200)
 
-# fresh51 and calib57: the design of 94244b1 (behaviour as 2a31338's), a second check, frozen before
-# their first run. fresh51: rates and variations drawn as fresh50's with numpy default_rng(59).
+# fresh51 and calib57: the design of 56f3f32 (94244b1's with step-down min-P), frozen before their
+# first run. fresh51: rates and variations drawn as fresh50's with numpy default_rng(59).
 # calib57: three plants no earlier set used, drawn by calib53's recipe (numpy default_rng(58)), the
 # velocity sensor alone in rows 0-11 and both sensors in rows 12-23. None chosen
 _F51_FS = {"a": 630.0, "b": 785.0, "c": 325.0, "d": 495.0, "e": 370.0, "f": 355.0, "g": 255.0, "h": 880.0,
