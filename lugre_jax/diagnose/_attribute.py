@@ -101,18 +101,48 @@ TIME_LINE = TermGroup("time_periodic", ("sin(2*pi*f*t)", "cos(2*pi*f*t)"), ("1",
                       "periodic in time, not tied to the motion: an external disturbance")
 
 
-def _time_line_freqs(t, R, rows, min_periods: float = 3.0, oversample: int = 4):
-    """Strongest ordinate of each residual's periodogram between ``min_periods`` periods in the
-    recording and a quarter of the sample rate (rows: residuals, full length), on a grid
-    ``oversample`` times finer than the Fourier frequencies (a line between two of them is
-    otherwise placed up to half a bin off, and its sine fits the residual the worse)."""
+def _time_line_freqs(t, R, rows, min_periods: float = 3.0, oversample: int = 4, iters: int = 16):
+    """Frequency of the strongest line of each residual's periodogram between ``min_periods``
+    periods in the recording and a quarter of the sample rate (rows: residuals, full length): the
+    strongest ordinate on a grid ``oversample`` times finer than the Fourier frequencies, then the
+    periodogram's maximum within one grid step either side (golden section, ``iters`` steps). A
+    frequency off by a fraction ``e`` of a Fourier bin leaves a sine whose phase drifts by
+    ``+-pi*e`` over the recording, and the remainder is structure a later term takes up."""
     from ._locate import _power
 
+    R = np.atleast_2d(np.asarray(R, float))
     f, P = _power(t, R, oversample)
     band = (f >= min_periods / float(t[-1] - t[0])) & (f <= 0.25 / float(np.median(np.diff(t))))
     if not band.any():
-        return np.zeros(np.atleast_2d(R).shape[0])
-    return f[band][np.argmax(P[:, band], axis=1)]
+        return np.zeros(R.shape[0])
+    f0 = f[band][np.argmax(P[:, band], axis=1)]
+    dt = float(np.median(np.diff(t)))
+    n = R.shape[1]
+    tt = np.arange(n) * dt  # the periodogram's own clock (uniform samples)
+    # demodulated at each row's grid frequency and summed over short blocks: within one grid step
+    # the phase turns by at most pi/2 over the recording, so by at most pi/(4*blocks) in a block
+    z = (R - R.mean(axis=1, keepdims=True)) * np.exp(-2j * np.pi * f0[:, None] * tt[None, :])
+    starts = np.linspace(0, n, min(n, 2048), endpoint=False).astype(int)
+    Z = np.add.reduceat(z, starts, axis=1)
+    tb = 0.5 * (tt[starts] + tt[np.append(starts[1:], n) - 1])
+
+    def power(fr):
+        return np.abs(np.sum(Z * np.exp(-2j * np.pi * (fr - f0)[:, None] * tb[None, :]), axis=1)) ** 2
+
+    step = 1.0 / (oversample * R.shape[1] * dt)
+    g = (np.sqrt(5.0) - 1.0) / 2.0
+    a, b = f0 - step, f0 + step
+    c, d = b - g * (b - a), a + g * (b - a)
+    pc, pd = power(c), power(d)
+    for _ in range(iters):
+        left = pc > pd  # the maximum lies in [a, d]
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        x = np.where(left, b - g * (b - a), a + g * (b - a))
+        px = power(x)
+        c, d, pc, pd = (np.where(left, x, d), np.where(left, c, x), np.where(left, px, pd),
+                        np.where(left, pc, px))
+    fr = 0.5 * (a + b)
+    return np.where(power(fr) >= power(f0), fr, f0)
 
 
 def _sincos(t, f):
