@@ -3756,6 +3756,19 @@ def calib57_settings(n: int = 24):
                             25300, n, loops=("pi", "pid"), nff=3, plant_k=2, fs_k=1, tn_rule=(2, 5))
 
 
+# outside24: the design of 030d46c (56f3f32's with the time line placed between the periodogram's
+# ordinates), frozen before its first run: outside14's rows on calib57's plants, rates drawn as
+# outside22's (numpy default_rng(24)). None chosen
+_OUT24_RECIPES = _outside14_on({"gritty": "wary", "sprightly": "astute", "stolid": "shrewd"},
+                               (400.0, 445.0, 545.0, 505.0, 540.0, 540.0, 725.0, 250.0))
+
+
+def outside24_settings():
+    """A twenty-fourth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on WARY, ASTUTE and SHREWD, at drawn rates (250-725 Hz) and seeds 25500 + k."""
+    return _outside_set("outside24_", OUTSIDE9_ROWS, _OUT24_RECIPES, 25500)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3807,6 +3820,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside22": outside22_settings,
             "fresh50": fresh50_settings, "calib56": calib56_settings, "outside23": outside23_settings,
             "fresh51": fresh51_settings, "calib57": calib57_settings,
+            "outside24": outside24_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -3995,7 +4009,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside18", "calib48", "calib49", "outside19", "fresh43", "calib50", "fresh44", "fresh45", "calib51",
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
-               "fresh50", "calib56", "outside23", "fresh51", "calib57")
+               "fresh50", "calib56", "outside23", "fresh51", "calib57",
+               "outside24")
 
 
 def main():
