@@ -83,8 +83,8 @@ def test_the_time_line_is_placed_between_the_periodograms_ordinates():
     ordinates (48 s at 320 Hz, 0.07 N*m, as the generator's slow disturbance): the frequency found
     is within 0.01 of a Fourier bin (1/48 Hz) noise-free, where the grid alone is up to 0.125 bin
     off, and the sine fitted at it leaves under 2 % of the amplitude (at the grid's ordinate, up to
-    13 % on these, which a later term would take up). With white noise of 0.08 N*m the error is within the noise's
-    own spread (0.05 bin here)."""
+    13 % on these, which a later term would take up). With white noise of 0.08 N*m the error is
+    within the noise's own spread (0.05 bin here)."""
     from lugre_jax.diagnose._attribute import _sincos, _time_line_freqs
 
     fs, dur = 320.0, 48.0

@@ -111,13 +111,12 @@ def _time_line_freqs(t, R, rows, min_periods: float = 3.0, oversample: int = 4, 
     from ._locate import _power
 
     R = np.atleast_2d(np.asarray(R, float))
+    dt, n = float(np.median(np.diff(t))), R.shape[1]
     f, P = _power(t, R, oversample)
-    band = (f >= min_periods / float(t[-1] - t[0])) & (f <= 0.25 / float(np.median(np.diff(t))))
+    band = (f >= min_periods / float(t[-1] - t[0])) & (f <= 0.25 / dt)
     if not band.any():
         return np.zeros(R.shape[0])
     f0 = f[band][np.argmax(P[:, band], axis=1)]
-    dt = float(np.median(np.diff(t)))
-    n = R.shape[1]
     tt = np.arange(n) * dt  # the periodogram's own clock (uniform samples)
     # demodulated at each row's grid frequency and summed over short blocks: within one grid step
     # the phase turns by at most pi/2 over the recording, so by at most pi/(4*blocks) in a block
@@ -129,7 +128,7 @@ def _time_line_freqs(t, R, rows, min_periods: float = 3.0, oversample: int = 4, 
     def power(fr):
         return np.abs(np.sum(Z * np.exp(-2j * np.pi * (fr - f0)[:, None] * tb[None, :]), axis=1)) ** 2
 
-    step = 1.0 / (oversample * R.shape[1] * dt)
+    step = 1.0 / (oversample * n * dt)
     g = (np.sqrt(5.0) - 1.0) / 2.0
     a, b = f0 - step, f0 + step
     c, d = b - g * (b - a), a + g * (b - a)
