@@ -90,13 +90,15 @@ def null_table(null, title, figure):
 
 def _dependence(row):
     """The signals the report's attribution names for the unexplained residual (REPORT
-    ``missing_physics[...].params.attribution.signals``), with each term's coefficient; '-' when
+    ``missing_physics[...].params.attribution.signals``), with each term's coefficient, and the
+    library terms a named candidate is listed with (``alternative_terms``: "or <term>"); '-' when
     there is none."""
     found = []
     for m in row.get("missing_physics") or []:
         att = ((m or {}).get("params") or {}).get("attribution") or {}
         for t in att.get("terms", []):
             found.append(f"{t['signal']} ({', '.join(f'{c:.3g}' for c in t['coefficients'])} {t['units'][0]})")
+        found += [f"{m['name']} or {a['term']}" for a in (m or {}).get("alternative_terms", [])]
     return "; ".join(found) or "-"
 
 

@@ -135,7 +135,9 @@ def run(args) -> int:
         if plots_dir is not None:
             plot_report(rep, rec, plots_dir)
     named = [f.name + "".join(f" (or {a['name']}: the held-out blocks do not tell them apart)"
-                              for a in f.alternatives) for f in rep.missing_physics]
+                              for a in f.alternatives)
+             + "".join(f" (or a {a['term']} term, {a['reading']}: the held-out blocks do not tell them apart)"
+                       for a in f.alternative_terms) for f in rep.missing_physics]
     print(f"verdict: {rep.verdict}; baseline validation RMSE {rep.baseline.validation_rmse_nm:.5g} "
           f"-> {rep.improved.validation_rmse_nm:.5g} {rec.units['torque']}; "
           f"missing physics: {', '.join(named) or 'none'}; report: {args.out}")

@@ -598,7 +598,7 @@ def _partials(n_refit: int, Xs, resid, beta) -> tuple[tuple, tuple]:
 def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,
            nuisance=None, motion=None, cond=None) -> list:
     """Every library group and the time line as a rival explanation of the current residual
-    ``ctx.residual``: ``(group, cross-validated residual)``, each phase of ``folds`` predicted by
+    ``ctx.residual``: ``(group, cross-validated residual, its reading)``, each phase of ``folds`` predicted by
     the term with the current model's linearised refit (its Jacobian and the ``nuisance``
     columns) fitted on the other kept samples, the time line's frequency searched on those
     samples too, off the motion's lines ``motion`` a kinematic error can explain
@@ -618,5 +618,13 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
         # its frequency searched, and its columns fitted off the lines, on each fold's fit
         return np.column_stack([JB, _time_line(t, _line_frequency(t, r, fit, lines), lines, fit)])
 
-    return [(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m))
+    def reading(g, X):
+        # the sign-dependent reading (v*|v| falling is not drag) of the term fitted on every kept sample
+        if X is None:
+            return g.reading
+        X = np.asarray(X, float).reshape(n, -1)
+        coef = np.linalg.lstsq(np.column_stack([JB, X])[keep], r[keep], rcond=None)[0]
+        return g.read(coef[-X.shape[1]:])
+
+    return [(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m), reading(g, X))
             for g, X in groups]

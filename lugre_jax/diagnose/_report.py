@@ -140,7 +140,11 @@ class Finding:
     candidate that passed every check in this one's place when the held-out blocks cannot tell the
     two apart (``name``, its cross-validated ``cv_rmse_nm``, ``p_named_better``: the one-sided
     p-value that this one predicts those blocks better, above alpha); empty when the recording
-    tells them apart or no other candidate passed.
+    tells them apart or no other candidate passed. ``alternative_terms``: the attribution
+    library's terms that, with the model before this finding refitted, lower the held-out error
+    too and that this one does not predict significantly better (``term``, its ``reading``,
+    ``cv_rmse_nm``, ``p_named_better`` above alpha): physics outside the eight the excitation
+    cannot tell from this one; empty when it can.
     """
 
     name: str
@@ -151,6 +155,7 @@ class Finding:
     p_validation: float | None = None
     p_family: float | None = None
     alternatives: tuple[dict, ...] = ()
+    alternative_terms: tuple[dict, ...] = ()
 
     @property
     def unexplained(self) -> bool:
@@ -163,6 +168,7 @@ class Finding:
                     if getattr(self, k) is not None})
         if not self.unexplained:
             out["alternatives"] = [dict(a) for a in self.alternatives]
+            out["alternative_terms"] = [dict(a) for a in self.alternative_terms]
         return out
 
 

@@ -752,6 +752,23 @@ def _alternatives(best, others, kin, tau, split, cfg) -> list[dict]:
     return out
 
 
+def _term_alternatives(r_named, cv_before, rivals_step, split, cfg) -> list[dict]:
+    """The library terms (each with the current model's linearised refit, cross-validated on the
+    named candidate's phases) that lower the held-out error too and that the named candidate does
+    not predict significantly better (one-sided, at ``alpha_confirm``): physics outside the eight
+    that the excitation ties to the candidate's shape (on a staircase, whose speeds rise with time,
+    a drag ``v*|v|`` and a friction drifting in time). The name stays; the report lists these."""
+    out = []
+    for g, r_g, reading in rivals_step:
+        cv_g = _rms(r_g, split.cv_mask)
+        if not cv_g < cv_before:
+            continue
+        p = held_out_p(r_g, r_named, split.blocks, split.cv_mask)
+        if not rejects(p, cfg.alpha_confirm):
+            out.append({"term": g.name, "reading": reading, "cv_rmse_nm": cv_g, "p_named_better": p})
+    return sorted(out, key=lambda a: a["cv_rmse_nm"])
+
+
 def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: _Reference):
     """Greedy forward selection: at each step every candidate is tested against the null simulated
     for this recording (:mod:`._calibrate`); the significant ones (family-wise, ``cfg.alpha_name``)
@@ -831,6 +848,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             # judged against the current model itself
             fwd = _Reference(fitted, space.specs, r1)
             riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
+            term_alts = []
             judged_with = ref.refused
             v_cur, v1 = _rms(r_cur, val), _rms(r1, val)
             if why is None:
@@ -864,14 +882,16 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 # Bonferroni over the terms at the naming test's share of alpha)
                 rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
                 if rivals_step:
-                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g in rivals_step]
+                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g, _ in rivals_step]
                     top = int(np.argmin(p_under))
-                    g_riv, r_riv = rivals_step[top]
+                    g_riv, r_riv, _ = rivals_step[top]
                     riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
                            "p_rival": min(1.0, len(p_under) * float(p_under[top]))}
                     if rejects(riv["p_rival"], cfg.alpha_name):
                         why = (f"the library's {g_riv.name} term predicts the held-out blocks better (cross-validated "
                                f"{cv1:.4g} -> {riv['cv_rmse_rival_nm']:.4g}, p {riv['p_rival']:.3g})")
+                    else:
+                        term_alts = _term_alternatives(r1_cv, cv_cur, rivals_step, split, cfg)
             k1 = len(space.specs) if not frozen else prep.k + sum(
                 len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
             sse1 = _sse(r1, w)
@@ -883,7 +903,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                      "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
                      "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
                      "identifiability_z": zmax, "rejected_because": why,
-                     "held_out_with": judged_with} | riv
+                     "held_out_with": judged_with, "alternative_terms": term_alts} | riv
             return trial, beyond, fitted, space, r1
 
         for i in significant:
@@ -911,7 +931,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                                                          "validation_rmse_nm", "validation_rmse_before_nm",
                                                          "cv_rmse_nm", "cv_rmse_before_nm", "identifiability_z",
                                                          "rival", "cv_rmse_rival_nm", "p_rival",
-                                                         "rejected_because", "held_out_with")} for t in trials]})
+                                                         "rejected_because", "held_out_with", "alternative_terms")}
+                                   for t in trials]})
         ok = [t for t in trials if t["rejected_because"] is None]
         if not ok:
             break
@@ -1033,7 +1054,8 @@ def _report(prep, split, floor, cfg, r0, loc0, current, r_cur, loc_cur, accepted
                        validation_rmse_nm=_rms(t["ref"].cross_validated(kin, np.asarray(rec.torque), split, cfg),
                                                     split.cv_mask), delta_bic=t["delta_bic"],
                        p_validation=t["p_validation"], p_family=t["p_family"],
-                       alternatives=tuple(a for a in t.get("alternatives", ()) if a["name"] not in named))
+                       alternatives=tuple(a for a in t.get("alternatives", ()) if a["name"] not in named),
+                       alternative_terms=tuple(t.get("alternative_terms", ())))
                for (name, t), c in zip(accepted, current.candidates, strict=True)]
     if remaining or attribution.found:
         words = ("Residual structure remains" + (" where listed" if remaining else "")
