@@ -3769,6 +3769,60 @@ def outside24_settings():
     return _outside_set("outside24_", OUTSIDE9_ROWS, _OUT24_RECIPES, 25500)
 
 
+# outside25: the design of 36e4822 (030d46c's with a named candidate's library
+# terms the held-out blocks cannot tell from it listed as its alternatives, which changes no
+# verdict), frozen before its first run: outside14's rows on three plants no earlier set used, drawn
+# by calib53's recipe (numpy default_rng(60)), rates drawn as outside22's (numpy default_rng(61)).
+# None chosen
+STOIC = T.Plant(J=0.099, Fc=0.519, Fs=0.683, vs=0.0696, sigma2=1.391, sigma0=208.0, sigma1=1.81)
+DILIGENT = T.Plant(J=0.176, Fc=1.194, Fs=1.693, vs=0.0428, sigma2=1.243, sigma0=123.0, sigma1=1.86)
+LOYAL = T.Plant(J=0.128, Fc=1.046, Fs=1.549, vs=0.0529, sigma2=1.119, sigma0=154.0, sigma1=1.77)
+_add_plants({"stoic": (STOIC, T.VelocityPIController(kp=4.7, ki=28.7)),
+             "diligent": (DILIGENT, T.VelocityPIController(kp=8.5, ki=51.1)),
+             "loyal": (LOYAL, T.VelocityPIController(kp=6.2, ki=37.2))},
+            {"stoic": PidTuning(3.1, 0.003),
+             "diligent": PidTuning(3.0, 0.002),
+             "loyal": PidTuning(3.1, 0.002)})
+_OUT25_RECIPES = _outside14_on({"gritty": "stoic", "sprightly": "diligent", "stolid": "loyal"},
+                               (425.0, 665.0, 605.0, 625.0, 460.0, 800.0, 800.0, 770.0))
+
+
+def outside25_settings():
+    """A twenty-fifth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on STOIC, DILIGENT and LOYAL, at drawn rates (425-800 Hz) and seeds 25600 + k."""
+    return _outside_set("outside25_", OUTSIDE9_ROWS, _OUT25_RECIPES, 25600)
+
+
+# fresh52 and calib58: outside25's design, frozen before their first run. fresh52: fresh3's 24
+# effect rows at rates and variations drawn as fresh51's with numpy default_rng(62). calib58: 24
+# effect-free rows on outside25's plants with the five rates and three torque noises its draw
+# (numpy default_rng(60)) gives, the position sensor alone in rows 0-11 and both sensors in rows
+# 12-23 (as calib56, calib57 having had the velocity sensor alone). None chosen
+_F52_FS = {"a": 645.0, "b": 735.0, "c": 755.0, "d": 435.0, "e": 700.0, "f": 850.0, "g": 585.0, "h": 820.0,
+           "i": 785.0}
+_F52_VARIED = _varied(-1.6604, 1.1722, -3.0086)
+
+
+def fresh52_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 435-850 Hz (by recipe, drawn), seeds 25700 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh52", _F52_FS, _F52_VARIED, 25700)
+
+
+def calib58_settings(n: int = 24):
+    """A fifty-eighth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the position sensor alone in rows 0-11 and both sensors in rows 12-23, on STOIC,
+    DILIGENT and LOYAL, at drawn rates 560-900 Hz and torque noise 0.037-0.082 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 25800 + i."""
+    return _effect_free_set("calib58", CALIB41_EXCITATIONS, ["stoic", "diligent", "loyal"],
+                            [(True, False), (True, True), (False, True)], [560.0, 900.0, 835.0, 885.0, 870.0],
+                            [0.073, 0.082, 0.037], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            25800, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3820,7 +3874,8 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside22": outside22_settings,
             "fresh50": fresh50_settings, "calib56": calib56_settings, "outside23": outside23_settings,
             "fresh51": fresh51_settings, "calib57": calib57_settings,
-            "outside24": outside24_settings,
+            "outside24": outside24_settings, "outside25": outside25_settings,
+            "fresh52": fresh52_settings, "calib58": calib58_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4010,7 +4065,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
-               "outside24")
+               "outside24", "outside25", "fresh52", "calib58")
 
 
 def main():
