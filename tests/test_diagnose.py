@@ -560,7 +560,9 @@ def test_a_library_term_predicting_as_well_as_the_named_candidate_is_listed_with
     one removes nothing (the residual before the finding), one makes
     a quarter of the finding's change. Only the first is listed: the held-out test at
     ``alpha_confirm`` cannot tell it from the named one, and the others do not lower the held-out
-    error (the second) or are predicted significantly worse (the third, z about 10)."""
+    error (the second) or are predicted significantly worse (the third, z about 10). A fourth, as good
+    as the first but only as good as the model's linearised refit without it, is not listed: the
+    change is not the term's."""
     from types import SimpleNamespace
 
     from lugre_jax.diagnose._attribute import TermGroup
@@ -574,8 +576,13 @@ def test_a_library_term_predicting_as_well_as_the_named_candidate_is_listed_with
     split = SimpleNamespace(blocks=blocks, cv_mask=np.ones(n, bool))
     cfg = DiagnoseConfig()
     group = lambda name: TermGroup(name, ("x",), ("N*m",), f"reads {name}")  # noqa: E731
-    rivals = [(group("same"), noise - 0.1 * effect, "reads same"),
-              (group("nothing"), r_before, "reads nothing"), (group("quarter"), noise + 0.75 * effect, "")]
+    # the model's linearised refit alone removes nothing here; "carried" is a term the refit alone
+    # would predict as well: not its own share
+    refit = lambda r: (lambda g, r_g, reading: (g, r_g, reading, r))  # noqa: E731
+    rivals = [refit(r_before)(group("same"), noise - 0.1 * effect, "reads same"),
+              refit(r_before)(group("nothing"), r_before, "reads nothing"),
+              refit(r_before)(group("quarter"), noise + 0.75 * effect, ""),
+              refit(noise - 0.1 * effect)(group("carried"), noise - 0.1 * effect, "")]
     alts = _term_alternatives(r_named, float(np.sqrt(np.mean(r_before ** 2))), rivals, split, cfg)
     assert [a["term"] for a in alts] == ["same"], alts
     assert alts[0]["p_named_better"] > cfg.alpha_confirm and alts[0]["reading"] == "reads same"

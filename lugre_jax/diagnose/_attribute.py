@@ -598,7 +598,7 @@ def _partials(n_refit: int, Xs, resid, beta) -> tuple[tuple, tuple]:
 def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,
            nuisance=None, motion=None, cond=None) -> list:
     """Every library group and the time line as a rival explanation of the current residual
-    ``ctx.residual``: ``(group, cross-validated residual, its reading)``, each phase of ``folds`` predicted by
+    ``ctx.residual``: ``(group, cross-validated residual, its reading, the linearised refit's alone)``, each phase of ``folds`` predicted by
     the term with the current model's linearised refit (its Jacobian and the ``nuisance``
     columns) fitted on the other kept samples, the time line's frequency searched on those
     samples too, off the motion's lines ``motion`` a kinematic error can explain
@@ -626,5 +626,6 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
         coef = np.linalg.lstsq(np.column_stack([JB, X])[keep], r[keep], rcond=None)[0]
         return g.read(coef[-X.shape[1]:])
 
-    return [(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m), reading(g, X))
-            for g, X in groups]
+    r_refit = cv_residual(JB, r, keep, folds_m)
+    return [(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m), reading(g, X),
+             r_refit) for g, X in groups]

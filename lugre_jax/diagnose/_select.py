@@ -754,14 +754,18 @@ def _alternatives(best, others, kin, tau, split, cfg) -> list[dict]:
 
 def _term_alternatives(r_named, cv_before, rivals_step, split, cfg) -> list[dict]:
     """The library terms (each with the current model's linearised refit, cross-validated on the
-    named candidate's phases) that lower the held-out error too and that the named candidate does
-    not predict significantly better (one-sided, at ``alpha_confirm``): physics outside the eight
+    named candidate's phases) that lower the held-out error too, significantly beyond that refit
+    alone (one-sided, at ``alpha_confirm``), and that the named candidate does not predict
+    significantly better (one-sided, at ``alpha_confirm``): physics outside the eight
     that the excitation ties to the candidate's shape (on a staircase, whose speeds rise with time,
     a drag ``v*|v|`` and a friction drifting in time). The name stays; the report lists these."""
     out = []
-    for g, r_g, reading in rivals_step:
+    for g, r_g, reading, r_refit in rivals_step:
         cv_g = _rms(r_g, split.cv_mask)
-        if not cv_g < cv_before:
+        # the term's own share: it lowers the held-out error beyond the model's linearised refit
+        # alone (which, cross-validated, can lower it by itself and so carry every term along)
+        if not (cv_g < cv_before and rejects(held_out_p(r_refit, r_g, split.blocks, split.cv_mask),
+                                             cfg.alpha_confirm)):
             continue
         p = held_out_p(r_g, r_named, split.blocks, split.cv_mask)
         if not rejects(p, cfg.alpha_confirm):
@@ -882,9 +886,9 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 # Bonferroni over the terms at the naming test's share of alpha)
                 rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
                 if rivals_step:
-                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g, _ in rivals_step]
+                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g, _, _ in rivals_step]
                     top = int(np.argmin(p_under))
-                    g_riv, r_riv, _ = rivals_step[top]
+                    g_riv, r_riv, _, _ = rivals_step[top]
                     riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
                            "p_rival": min(1.0, len(p_under) * float(p_under[top]))}
                     if rejects(riv["p_rival"], cfg.alpha_name):
