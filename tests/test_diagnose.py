@@ -557,15 +557,15 @@ def test_a_backlash_width_is_found_by_its_profile_where_lm_leaves_it():
 def test_a_library_term_predicting_as_well_as_the_named_candidate_is_listed_with_it():
     """The named candidate's held-out residual against three library terms' on 40 blocks of white
     noise of std 1: one term makes the named candidate's prediction 10 % larger (z about 0.7),
-    one removes nothing (the residual before the finding), one makes
-    a quarter of the finding's change. Only the first is listed: the held-out test at
+    one removes nothing (the residual before the finding), one makes a quarter of the finding's
+    change. Only the first is listed: the held-out test at
     ``alpha_confirm`` cannot tell it from the named one, and the others do not lower the held-out
-    error (the second) or are predicted significantly worse (the third, z about 10). A fourth, as good
-    as the first but only as good as the model's linearised refit without it, is not listed: the
-    change is not the term's."""
+    error (the second) or are predicted significantly worse (the third, z about 10). The first is
+    not listed either when the model's linearised refit alone predicts as well: the change is not
+    the term's."""
     from types import SimpleNamespace
 
-    from lugre_jax.diagnose._attribute import TermGroup
+    from lugre_jax.diagnose._attribute import Rivals, TermGroup
     from lugre_jax.diagnose._select import _term_alternatives
 
     rng = np.random.default_rng(0)
@@ -575,14 +575,14 @@ def test_a_library_term_predicting_as_well_as_the_named_candidate_is_listed_with
     r_before, r_named = noise + effect, noise
     split = SimpleNamespace(blocks=blocks, cv_mask=np.ones(n, bool))
     cfg = DiagnoseConfig()
+    cv_before = float(np.sqrt(np.mean(r_before ** 2)))
     group = lambda name: TermGroup(name, ("x",), ("N*m",), f"reads {name}")  # noqa: E731
-    # the model's linearised refit alone removes nothing here; "carried" is a term the refit alone
-    # would predict as well: not its own share
-    refit = lambda r: (lambda g, r_g, reading: (g, r_g, reading, r))  # noqa: E731
-    rivals = [refit(r_before)(group("same"), noise - 0.1 * effect, "reads same"),
-              refit(r_before)(group("nothing"), r_before, "reads nothing"),
-              refit(r_before)(group("quarter"), noise + 0.75 * effect, ""),
-              refit(noise - 0.1 * effect)(group("carried"), noise - 0.1 * effect, "")]
-    alts = _term_alternatives(r_named, float(np.sqrt(np.mean(r_before ** 2))), rivals, split, cfg)
+    terms = [(group("same"), noise - 0.1 * effect, "reads same"),
+             (group("nothing"), r_before, "reads nothing"),
+             (group("quarter"), noise + 0.75 * effect, "")]
+    # the model's linearised refit alone removes nothing here
+    alts = _term_alternatives(r_named, cv_before, Rivals(terms, refit=r_before), split, cfg)
     assert [a["term"] for a in alts] == ["same"], alts
     assert alts[0]["p_named_better"] > cfg.alpha_confirm and alts[0]["reading"] == "reads same"
+    # the same term when the refit alone predicts as well: the change is not the term's
+    assert _term_alternatives(r_named, cv_before, Rivals(terms[:1], refit=noise - 0.1 * effect), split, cfg) == []

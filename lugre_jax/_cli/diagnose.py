@@ -134,10 +134,7 @@ def run(args) -> int:
         write_json(out_path, rep.to_json())
         if plots_dir is not None:
             plot_report(rep, rec, plots_dir)
-    named = [f.name + "".join(f" (or {a['name']}: the held-out blocks do not tell them apart)"
-                              for a in f.alternatives)
-             + "".join(f" (or a {a['term']} term, {a['reading']}: the held-out blocks do not tell them apart)"
-                       for a in f.alternative_terms) for f in rep.missing_physics]
+    named = [f.name + _or(f) for f in rep.missing_physics]
     print(f"verdict: {rep.verdict}; baseline validation RMSE {rep.baseline.validation_rmse_nm:.5g} "
           f"-> {rep.improved.validation_rmse_nm:.5g} {rec.units['torque']}; "
           f"missing physics: {', '.join(named) or 'none'}; report: {args.out}")
@@ -182,3 +179,10 @@ def _check_params_against(params: dict, rec, source) -> None:
                          f"recording, whose torque stays below {scale:.3g}; expected parameters in the "
                          "recording's units "
                          f"({rec.units['velocity']}, {rec.units['torque']})")
+
+
+def _or(finding) -> str:
+    """The other explanations the held-out blocks cannot tell from a named finding, in one phrase."""
+    others = ([a["name"] for a in finding.alternatives]
+              + [f"a {a['term']} term [{a['reading']}]" for a in finding.alternative_terms])
+    return f" (or {' or '.join(others)}: the held-out blocks do not tell them apart)" if others else ""

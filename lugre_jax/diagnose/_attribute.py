@@ -595,13 +595,23 @@ def _partials(n_refit: int, Xs, resid, beta) -> tuple[tuple, tuple]:
     return tuple(fits), tuple(resid + f for f in fits)
 
 
+@dataclasses.dataclass(frozen=True)
+class Rivals:
+    """The library's rival explanations of a residual (:func:`rivals`): ``terms``, one
+    ``(group, cross-validated residual, reading)`` per library group and the time line, and
+    ``refit``, the cross-validated residual of the model's linearised refit alone, which every
+    term's residual includes (a term is credited only with what it removes beyond it)."""
+
+    terms: list
+    refit: np.ndarray
+
+
 def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_derivatives: bool = False,
-           nuisance=None, motion=None, cond=None) -> list:
+           nuisance=None, motion=None, cond=None) -> Rivals:
     """Every library group and the time line as a rival explanation of the current residual
-    ``ctx.residual``: ``(group, cross-validated residual, its reading, the linearised refit's alone)``, each phase of ``folds`` predicted by
-    the term with the current model's linearised refit (its Jacobian and the ``nuisance``
-    columns) fitted on the other kept samples, the time line's frequency searched on those
-    samples too, off the motion's lines ``motion`` a kinematic error can explain
+    ``ctx.residual`` (:class:`Rivals`), each phase of ``folds`` predicted by the term with the
+    current model's linearised refit (its Jacobian and the ``nuisance`` columns) fitted on the
+    other kept samples, the time line's frequency searched on those samples too, off the motion's lines ``motion`` a kinematic error can explain
     (:func:`kinematic_lines`); 0 elsewhere. A candidate is compared with these by
     :func:`._calibrate.held_out_p` on the same phases as its own cross-validated residual."""
     r = np.asarray(ctx.residual, float)
@@ -626,6 +636,5 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
         coef = np.linalg.lstsq(np.column_stack([JB, X])[keep], r[keep], rcond=None)[0]
         return g.read(coef[-X.shape[1]:])
 
-    r_refit = cv_residual(JB, r, keep, folds_m)
-    return [(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m), reading(g, X),
-             r_refit) for g, X in groups]
+    return Rivals([(g, cv_residual(time_line if X is None else np.column_stack([JB, X]), r, keep, folds_m),
+                    reading(g, X)) for g, X in groups], cv_residual(JB, r, keep, folds_m))

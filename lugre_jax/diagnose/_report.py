@@ -142,9 +142,9 @@ class Finding:
     p-value that this one predicts those blocks better, above alpha); empty when the recording
     tells them apart or no other candidate passed. ``alternative_terms``: the attribution
     library's terms that, with the model before this finding refitted, lower the held-out error
-    significantly beyond that refit alone and that this one does not predict significantly better (``term``, its ``reading``,
-    ``cv_rmse_nm``, ``p_named_better`` above alpha): physics outside the eight the excitation
-    cannot tell from this one; empty when it can.
+    significantly beyond that refit alone and that this one does not predict significantly better
+    (``term``, its ``reading``, ``cv_rmse_nm``, ``p_named_better`` above alpha): physics outside
+    the eight the excitation cannot tell from this one; empty when it can.
     """
 
     name: str

@@ -27,7 +27,7 @@ import numpy as np
 from . import _locate as L
 from . import _model as M
 from ..friction import LuGre
-from ._attribute import _rms, cancel_words, kinematic_lines, motion_lines, rivals
+from ._attribute import Rivals, _rms, cancel_words, kinematic_lines, motion_lines, rivals
 from ._calibrate import held_out_p, rejects
 from ._config import DiagnoseConfig
 from ._physics import CANDIDATES
@@ -719,7 +719,7 @@ class _Reference:
     r: np.ndarray
     refused: str | None = None
     _cv: np.ndarray | None = None
-    _rivals: list | None = None
+    _rivals: Rivals | None = None
 
     def cross_validated(self, kin, tau, split, cfg) -> np.ndarray:
         if self._cv is None:
@@ -727,7 +727,7 @@ class _Reference:
                                         split.folds, cfg.max_steps)
         return self._cv
 
-    def library_rivals(self, ctx, kin, split, prep, floor) -> list:
+    def library_rivals(self, ctx, kin, split, prep, floor) -> Rivals:
         if self._rivals is None:
             ctx_ref = ctx if self.refused is None else ctx.replace(baseline=self.model, residual=self.r)
             self._rivals = rivals(self.model, self.specs, ctx_ref, kin, split.keep, split.blocks, split.folds,
@@ -752,7 +752,7 @@ def _alternatives(best, others, kin, tau, split, cfg) -> list[dict]:
     return out
 
 
-def _term_alternatives(r_named, cv_before, rivals_step, split, cfg) -> list[dict]:
+def _term_alternatives(r_named, cv_before, rivals_step: Rivals, split, cfg) -> list[dict]:
     """The library terms (each with the current model's linearised refit, cross-validated on the
     named candidate's phases) that lower the held-out error too, significantly beyond that refit
     alone (one-sided, at ``alpha_confirm``), and that the named candidate does not predict
@@ -760,11 +760,11 @@ def _term_alternatives(r_named, cv_before, rivals_step, split, cfg) -> list[dict
     that the excitation ties to the candidate's shape (on a staircase, whose speeds rise with time,
     a drag ``v*|v|`` and a friction drifting in time). The name stays; the report lists these."""
     out = []
-    for g, r_g, reading, r_refit in rivals_step:
+    for g, r_g, reading in rivals_step.terms:
         cv_g = _rms(r_g, split.cv_mask)
         # the term's own share: it lowers the held-out error beyond the model's linearised refit
         # alone (which, cross-validated, can lower it by itself and so carry every term along)
-        if not (cv_g < cv_before and rejects(held_out_p(r_refit, r_g, split.blocks, split.cv_mask),
+        if not (cv_g < cv_before and rejects(held_out_p(rivals_step.refit, r_g, split.blocks, split.cv_mask),
                                              cfg.alpha_confirm)):
             continue
         p = held_out_p(r_g, r_named, split.blocks, split.cv_mask)
@@ -885,10 +885,11 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 # predicts the held-out blocks significantly better than the candidate (one-sided,
                 # Bonferroni over the terms at the naming test's share of alpha)
                 rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
-                if rivals_step:
-                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask) for _, r_g, _, _ in rivals_step]
+                if rivals_step.terms:
+                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask)
+                               for _, r_g, _ in rivals_step.terms]
                     top = int(np.argmin(p_under))
-                    g_riv, r_riv, _, _ = rivals_step[top]
+                    g_riv, r_riv, _ = rivals_step.terms[top]
                     riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
                            "p_rival": min(1.0, len(p_under) * float(p_under[top]))}
                     if rejects(riv["p_rival"], cfg.alpha_name):
