@@ -115,7 +115,8 @@ class DiagnoseConfig:
       differentiated encoder, steps instead of reversals, no constant-speed stretch) the fit
       otherwise settles in a static-friction basin (sigma0 -> 1e5) or a humpless one; the grid spans
       pre-sliding lengths max(Fs, Fc)/sigma0 over four decades of the position span P, and Stribeck
-      humps up to 2.5 Fc over 1.5 decades of the speed scale V.
+      humps up to 2.5 Fc over 1.5 decades of the speed scale V. The same humps are searched again
+      on the joint model after each accepted finding (``_select.hump_restart``).
     - ``shape_bands`` (10): at most this many log-speed bands of the friction-shape test, each at
       least a factor 1.5 wide (a Stribeck fall spans about a decade of speed; more bands cost each
       band's mean its samples).
