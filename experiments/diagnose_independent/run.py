@@ -3823,6 +3823,21 @@ def calib58_settings(n: int = 24):
                             25800, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# fresh53: fresh52's design on the hump restart after each accepted step, frozen before its first
+# run: fresh3's 24 effect rows at rates and variations drawn as fresh52's with numpy
+# default_rng(63). None chosen
+_F53_FS = {"a": 615.0, "b": 895.0, "c": 380.0, "d": 580.0, "e": 380.0, "f": 360.0, "g": 490.0, "h": 435.0,
+           "i": 520.0}
+_F53_VARIED = _varied(3.0755, 1.0226, -0.0757)
+
+
+def fresh53_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 360-895 Hz (by recipe, drawn), seeds 25900 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh53", _F53_FS, _F53_VARIED, 25900)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3876,6 +3891,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh51": fresh51_settings, "calib57": calib57_settings,
             "outside24": outside24_settings, "outside25": outside25_settings,
             "fresh52": fresh52_settings, "calib58": calib58_settings,
+            "fresh53": fresh53_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4065,7 +4081,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
-               "outside24", "outside25", "fresh52", "calib58")
+               "outside24", "outside25", "fresh52", "calib58", "fresh53")
 
 
 def main():
