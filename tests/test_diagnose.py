@@ -558,11 +558,10 @@ def test_a_library_term_predicting_as_well_as_the_named_candidate_is_listed_with
     """The named candidate's held-out residual against three library terms' on 40 blocks of white
     noise of std 1: one term makes the named candidate's prediction 10 % larger (z about 0.7),
     one removes nothing (the residual before the finding), one makes a quarter of the finding's
-    change. Only the first is listed: the held-out test at
-    ``alpha_confirm`` cannot tell it from the named one, and the others do not lower the held-out
-    error (the second) or are predicted significantly worse (the third, z about 10). The first is
-    not listed either when the model's linearised refit alone predicts as well: the change is not
-    the term's."""
+    change. Only the first is listed: the held-out test at ``alpha_confirm`` cannot tell it from
+    the named one, and the others do not lower the held-out error (the second) or are predicted
+    significantly worse (the third, z about 10). The first is not listed either when the model's
+    linearised refit alone predicts as well: the change is not the term's."""
     from types import SimpleNamespace
 
     from lugre_jax.diagnose._attribute import Rivals, TermGroup
@@ -630,6 +629,7 @@ def test_the_hump_restart_finds_a_narrow_stribeck_hump_a_humpless_model_misses()
 
     flat = M.clip_into(space, joint(1.8 * 1.0001, 1.2))
     assert sse(flat) > sse(true) + 10.0
-    found, changed = hump_restart(flat, space, kin, tau, w, vmax, DiagnoseConfig())
-    assert changed and sse(found) <= sse(true) + 1.0
+    found, r = hump_restart(flat, space, kin, tau, w, vmax, DiagnoseConfig())
+    assert r is not None and sse(found) <= sse(true) + 1.0
+    np.testing.assert_allclose(r, tau - M.predict(found, kin), rtol=0, atol=1e-12)
     assert float(found.friction.vs) == pytest.approx(0.04, rel=0.25)

@@ -134,6 +134,12 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
     return specs
 
 
+def _weighted_sse(model, kin, tau, w) -> tuple[float, np.ndarray]:
+    """(training SSE with weights ``w``, residual); inf where the prediction is not finite."""
+    e = tau - M.predict(model, kin)
+    return (float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf), e
+
+
 def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
                  rough=None, screen_steps: int = 25, max_steps: int = 200, far_starts: int = 2, cfg=None):
     """Multi-start LM fit of the baseline; returns (model, info, index of the kinematics used).
@@ -150,8 +156,7 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
     tau = np.asarray(rec.torque)
 
     def sse(m, kin):
-        e = tau - M.predict(m, kin)
-        return float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf
+        return _weighted_sse(m, kin, tau, w)[0]
 
     if params is not None:
         # given parameters: the bristle path is still chosen by the training SSE, as in a fit
@@ -192,25 +197,25 @@ def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False,
 
 
 def hump_restart(model, space, kin, tau, weights, V: float, cfg, screen_steps: int = 25,
-                 n: int = 2) -> tuple[object, bool]:
+                 n: int = 2) -> tuple[object, np.ndarray | None]:
     """``model`` (a least-squares fit of its structure on ``weights``) with its Stribeck hump searched
     again: the humps ``cfg.far_fs_over_fc`` x ``cfg.far_vs_over_v`` (of the speed scale ``V``) on the
     fitted inertia, Coulomb level, viscous, bristle and candidate parameters, ranked by training SSE
     (a prediction each), the ``n`` nearest run ``screen_steps`` LM steps and the best to convergence.
-    Returns (the model, whether it changed): the new fit only where its training SSE is lower.
+    Returns (the model, its residual ``tau - prediction`` where it changed, else None): the new fit
+    only where its training SSE is lower.
 
     Where few resolved samples are slow (moves between dwells) a fit that settled humpless while
     an effect was missing stays so when the effect joins it, though the joint optimum has the
     joint's hump; its misfit at low speed is structure the null, simulated from that fit, does not
     hold, and the next candidate that takes part of it is named."""
     if not isinstance(model.friction, LuGre):
-        return model, False
+        return model, None
     tau = np.asarray(tau)
     w = np.asarray(weights, float)
 
     def sse(m):
-        e = tau - M.predict(m, kin)
-        return float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf
+        return _weighted_sse(m, kin, tau, w)[0]
 
     e0, Fc = sse(model), float(model.friction.Fc)
     grid = [M.clip_into(space, eqx.tree_at(lambda m: (m.friction.Fs, m.friction.vs), model,
@@ -220,9 +225,10 @@ def hump_restart(model, space, kin, tau, weights, V: float, cfg, screen_steps: i
     screened = sorted(((sse(m), m) for m in (M.fit(s0, space, kin, tau, weights, max_steps=screen_steps)[0]
                                              for s0 in near)), key=lambda x: x[0])
     if not screened or not screened[0][0] < e0:
-        return model, False
+        return model, None
     fitted, _ = M.fit(screened[0][1], space, kin, tau, weights, max_steps=cfg.max_steps)
-    return (fitted, True) if sse(fitted) < e0 else (model, False)
+    e, r = _weighted_sse(fitted, kin, tau, w)
+    return (fitted, r) if e < e0 else (model, None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -984,11 +990,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
             # the structure changed: the model carried forward is the least squares of it, its
             # Stribeck hump searched again (a baseline fitted humpless with the effect missing
             # stays so in the joint refit)
-            moved, changed = hump_restart(cur_ref.model, M.FitSpace(cur_ref.specs), kin, tau, w, scales["V"], cfg)
-            log[-1]["hump_restarted"] = changed
-            if changed:
-                cur_ref = dataclasses.replace(cur_ref, model=moved, r=(tau - M.predict(moved, kin)) * keep,
-                                              _cv=None, _rivals=None)
+            moved, r = hump_restart(cur_ref.model, M.FitSpace(cur_ref.specs), kin, tau, w, scales["V"], cfg)
+            log[-1]["hump_restarted"] = r is not None
+            if r is not None:
+                cur_ref = dataclasses.replace(cur_ref, model=moved, r=r * keep, _cv=None, _rivals=None)
         bar.update(1)
     bar.close()
     return cur_ref, accepted, log
