@@ -3838,6 +3838,34 @@ def fresh53_settings():
     return _refreshed("fresh53", _F53_FS, _F53_VARIED, 25900)
 
 
+# calib59: the design of 4e01d45 (fresh53's: the hump restart after each finding), frozen before its
+# first run: 24 effect-free rows on three plants no earlier set used, drawn by calib53's recipe
+# (numpy default_rng(64)), the velocity sensor alone in rows 0-11 and both sensors in rows 12-23
+# (calib58 had the position sensor alone). None chosen
+JOVIAL = T.Plant(J=0.173, Fc=0.866, Fs=1.143, vs=0.0427, sigma2=1.387, sigma0=134.0, sigma1=1.92)
+WISTFUL = T.Plant(J=0.178, Fc=0.938, Fs=1.261, vs=0.0314, sigma2=1.035, sigma0=209.0, sigma1=2.44)
+QUAINT = T.Plant(J=0.143, Fc=0.533, Fs=0.847, vs=0.0524, sigma2=1.104, sigma0=245.0, sigma1=2.37)
+_add_plants({"jovial": (JOVIAL, T.VelocityPIController(kp=8.3, ki=50.2)),
+             "wistful": (WISTFUL, T.VelocityPIController(kp=8.6, ki=51.7)),
+             "quaint": (QUAINT, T.VelocityPIController(kp=6.9, ki=41.5))},
+            {"jovial": PidTuning(3.2, 0.003),
+             "wistful": PidTuning(3.1, 0.003),
+             "quaint": PidTuning(3.3, 0.002)})
+
+
+def calib59_settings(n: int = 24):
+    """A fifty-ninth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the velocity sensor alone in rows 0-11 and both sensors in rows 12-23, on JOVIAL,
+    WISTFUL and QUAINT, at drawn rates 170-820 Hz and torque noise 0.052-0.112 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 26000 + i."""
+    return _effect_free_set("calib59", CALIB41_EXCITATIONS, ["jovial", "wistful", "quaint"],
+                            [(False, True), (True, True), (True, False)], [170.0, 820.0, 175.0, 515.0, 190.0],
+                            [0.106, 0.052, 0.112], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            26000, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3891,7 +3919,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh51": fresh51_settings, "calib57": calib57_settings,
             "outside24": outside24_settings, "outside25": outside25_settings,
             "fresh52": fresh52_settings, "calib58": calib58_settings,
-            "fresh53": fresh53_settings,
+            "fresh53": fresh53_settings, "calib59": calib59_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4081,7 +4109,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
-               "outside24", "outside25", "fresh52", "calib58", "fresh53")
+               "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59")
 
 
 def main():
