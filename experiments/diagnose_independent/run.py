@@ -3866,6 +3866,18 @@ def calib59_settings(n: int = 24):
                             26000, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# outside26: the design of 4e01d45 (the hump restart), frozen before its first run: outside14's rows
+# on calib59's plants, rates drawn as outside22's (numpy default_rng(65)). None chosen
+_OUT26_RECIPES = _outside14_on({"gritty": "jovial", "sprightly": "wistful", "stolid": "quaint"},
+                               (230.0, 510.0, 425.0, 335.0, 765.0, 555.0, 365.0, 225.0))
+
+
+def outside26_settings():
+    """A twenty-sixth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on JOVIAL, WISTFUL and QUAINT, at drawn rates (225-765 Hz) and seeds 26100 + k."""
+    return _outside_set("outside26_", OUTSIDE9_ROWS, _OUT26_RECIPES, 26100)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3920,6 +3932,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside24": outside24_settings, "outside25": outside25_settings,
             "fresh52": fresh52_settings, "calib58": calib58_settings,
             "fresh53": fresh53_settings, "calib59": calib59_settings,
+            "outside26": outside26_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4109,7 +4122,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
-               "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59")
+               "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26")
 
 
 def main():
