@@ -612,8 +612,9 @@ def rivals(model, specs, ctx, kin, keep, blocks, folds, window: int, quantised_d
     ``ctx.residual`` (:class:`Rivals`), each phase of ``folds`` predicted by the term with the
     current model's linearised refit (its Jacobian and the ``nuisance`` columns) fitted on the
     other kept samples, the time line's frequency searched on those samples too, off the motion's
-    lines ``motion`` a kinematic error can explain (:func:`kinematic_lines`); 0 elsewhere. A candidate is compared with these by
-    :func:`._calibrate.held_out_p` on the same phases as its own cross-validated residual."""
+    lines ``motion`` a kinematic error can explain (:func:`kinematic_lines`); 0 elsewhere. A
+    candidate is compared with these by :func:`._calibrate.held_out_p` on the same phases as its own
+    cross-validated residual."""
     r = np.asarray(ctx.residual, float)
     t = np.asarray(ctx.rec.time, float)
     n = r.size

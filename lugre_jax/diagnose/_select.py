@@ -137,7 +137,7 @@ def _all_specs(model, scales, fit_offset, freeze_baseline=False):
 def _weighted_sse(model, kin, tau, w) -> tuple[float, np.ndarray]:
     """(training SSE with weights ``w``, residual); inf where the prediction is not finite."""
     e = tau - M.predict(model, kin)
-    return (float(np.sum(w * e * e)) if np.all(np.isfinite(e)) else np.inf), e
+    return (_sse(e, w) if np.all(np.isfinite(e)) else np.inf), e
 
 
 def fit_baseline(rec, kins, weights, scales, friction="lugre", fit_offset=False, params=None, noise=0.0,
