@@ -824,8 +824,10 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     When it is, the next significant candidate is judged alike, and of the two accepted the one with
     the lower cross-validated error is named (the other is reported as an alternative when the
     held-out blocks cannot tell them apart). Stops when no candidate is significant, none is
-    plausible and identifiable, or the held-out test fails. ``start``: the baseline as the first
-    step's reference. Returns the final model's reference (its cross-validated residual is the
+    plausible and identifiable, or the held-out test fails. After a finding the Stribeck hump is
+    searched again (:func:`hump_restart`); where that moves the fit, the selection goes on from both
+    fits and keeps the path whose final model has the lower cross-validated error (the log's
+    ``hump_restart_paths``). ``start``: the baseline as the first step's reference. Returns the final model's reference (its cross-validated residual is the
     report's held-out error) with the log."""
     from tqdm.auto import tqdm
 
@@ -834,169 +836,193 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     tau = np.asarray(prep.rec.torque)
     kin, w, keep, val = prep.kin, split.w, split.keep, split.val
     scales = floor.scales
-    cur_ref = start
     accepted, log = [], []
     bar = tqdm(total=cfg.max_effects, desc="select", disable=not progress, leave=False)
-    while len(accepted) < cfg.max_effects:
-        current, r_cur = cur_ref.model, cur_ref.r
-        names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
-        ctx = _context(prep, split, floor, current, r_cur, cfg)
-        specs_cur = _all_specs(current, scales, fit_offset, freeze_baseline=frozen)
-        test = test_candidates(current, specs_cur, names, ctx, kin, split.rows,
-                               floor.null, cfg.draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
-                               nuisance=floor.known["nuisance"])
-        # significance is family-wise (min-P); among the significant, the candidate that explains the
-        # most beyond what noise alone gives it (gain less its null mean) is refitted first: the
-        # standardised gain would favour a one-shape candidate that takes a sliver of a larger effect
-        excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
-        order = np.argsort(-excess)
-        significant = [int(i) for i in order if rejects(test.p_adjusted[i], cfg.alpha_name)][: cfg.top_k]
-        # the model the held-out test compares against: the current one, or the current one with a
-        # candidate refused as fitting beyond the kinematics' resolution (that structure is the
-        # smoothing's; a later candidate of the step is credited only with what it adds to it)
-        ref = cur_ref
-        trials = []
-        # the motion's lines a kinematic error explains: for a candidate linear in the motion, once a step
-        kin_lines, lines_known = None, False
 
-        def _fit_from(model, guess):
-            start = M.JointModel(model.J, model.friction, model.offset, model.candidates + (guess,))
-            space = M.FitSpace(_all_specs(start, scales, fit_offset, freeze_baseline=frozen))
-            start = M.clip_into(space, start)
-            fitted, finfo = M.fit(start, space, kin, tau, w, max_steps=cfg.max_steps)
-            r1 = (tau - M.predict(fitted, kin)) * keep
-            r_start = (tau - M.predict(start, kin)) * keep
-            if not np.all(np.isfinite(r1)) or _sse(r1, w) > _sse(r_start, w):
-                fitted, r1 = start, r_start
-            return fitted, finfo, space, r1
+    def steps(cur_ref, accepted, log, may_branch):
+        while len(accepted) < cfg.max_effects:
+            current, r_cur = cur_ref.model, cur_ref.r
+            names = {n: _Proto.get(k) for n, k in pool.items() if n not in [a[0] for a in accepted]}
+            ctx = _context(prep, split, floor, current, r_cur, cfg)
+            specs_cur = _all_specs(current, scales, fit_offset, freeze_baseline=frozen)
+            test = test_candidates(current, specs_cur, names, ctx, kin, split.rows,
+                                   floor.null, cfg.draws, cfg.alpha_name, seed=cfg.seed + len(accepted),
+                                   nuisance=floor.known["nuisance"])
+            # significance is family-wise (min-P); among the significant, the candidate that explains the
+            # most beyond what noise alone gives it (gain less its null mean) is refitted first: the
+            # standardised gain would favour a one-shape candidate that takes a sliver of a larger effect
+            excess = test.statistic - test.statistic / np.maximum(test.standardised, 1e-300)
+            order = np.argsort(-excess)
+            significant = [int(i) for i in order if rejects(test.p_adjusted[i], cfg.alpha_name)][: cfg.top_k]
+            # the model the held-out test compares against: the current one, or the current one with a
+            # candidate refused as fitting beyond the kinematics' resolution (that structure is the
+            # smoothing's; a later candidate of the step is credited only with what it adds to it)
+            ref = cur_ref
+            trials = []
+            # the motion's lines a kinematic error explains: for a candidate linear in the motion, once a step
+            kin_lines, lines_known = None, False
 
-        def evaluate(i, ref):
-            """Refit candidate ``i`` with the current model, judge it (plausible, identifiable,
-            lowering the held-out error against ``ref``, no library term predicting better)."""
-            nonlocal kin_lines, lines_known
-            name = test.names[i]
-            fitted, finfo, space, r1 = _fit_from(current, test.best_guess[i])
-            cand = fitted.candidates[-1]
-            ctx_fit = ctx.replace(baseline=fitted)
-            why = cand.implausible(ctx_fit)
-            beyond = why is not None and cand.beyond_resolution(ctx_fit)
-            kap1 = L.long_run_variance_factor(r1, split.blocks)
-            if not lines_known and type(cand).linear_in_motion:
-                kin_lines, lines_known = kinematic_lines(current, kin, np.asarray(prep.rec.time, float), r_cur,
-                                                         w > 0, prep.lines, prep.cond), True
-            zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand, kin_lines)
-            if why is None and not zmax >= cfg.identifiability_z:
-                why = (f"not identifiable on this excitation: its parameters are within "
-                       f"{zmax:.2g} standard errors of no effect")
-            cv_cur = cv1 = p_val = None
-            # the model carried forward; its cross-validated residual is the test's own when it is
-            # judged against the current model itself
-            fwd = _Reference(fitted, space.specs, r1)
-            riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
-            term_alts = []
-            judged_with = ref.refused
-            v_cur, v1 = _rms(r_cur, val), _rms(r1, val)
-            if why is None:
-                if judged_with is None:
-                    m_test, specs_test, r_test = fitted, space.specs, r1
-                else:
-                    m_test, _, space_n, r_test = _fit_from(ref.model, test.best_guess[i])
-                    specs_test = space_n.specs
-                r_cur_cv = ref.cross_validated(kin, tau, split, cfg)
-                r1_cv = _cross_validated(m_test, specs_test, kin, tau, keep, split.blocks, split.phase,
-                                         split.folds, cfg.max_steps)
-                cv_cur, cv1 = _rms(r_cur_cv, split.cv_mask), _rms(r1_cv, split.cv_mask)
-                p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
-                         if np.all(np.isfinite(r1_cv)) else 1.0)
-                if not (cv1 < cv_cur and rejects(p_val, cfg.alpha_confirm)):
-                    why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
-                           f"{cv1:.4g}, p {p_val:.3g})")
-                else:
-                    # the report's held-out error is the model carried forward's, cross-validated
-                    # alike: judged against a refused structure, it must still be below the current one's
+            def _fit_from(model, guess):
+                start = M.JointModel(model.J, model.friction, model.offset, model.candidates + (guess,))
+                space = M.FitSpace(_all_specs(start, scales, fit_offset, freeze_baseline=frozen))
+                start = M.clip_into(space, start)
+                fitted, finfo = M.fit(start, space, kin, tau, w, max_steps=cfg.max_steps)
+                r1 = (tau - M.predict(fitted, kin)) * keep
+                r_start = (tau - M.predict(start, kin)) * keep
+                if not np.all(np.isfinite(r1)) or _sse(r1, w) > _sse(r_start, w):
+                    fitted, r1 = start, r_start
+                return fitted, finfo, space, r1
+
+            def evaluate(i, ref):
+                """Refit candidate ``i`` with the current model, judge it (plausible, identifiable,
+                lowering the held-out error against ``ref``, no library term predicting better)."""
+                nonlocal kin_lines, lines_known
+                name = test.names[i]
+                fitted, finfo, space, r1 = _fit_from(current, test.best_guess[i])
+                cand = fitted.candidates[-1]
+                ctx_fit = ctx.replace(baseline=fitted)
+                why = cand.implausible(ctx_fit)
+                beyond = why is not None and cand.beyond_resolution(ctx_fit)
+                kap1 = L.long_run_variance_factor(r1, split.blocks)
+                if not lines_known and type(cand).linear_in_motion:
+                    kin_lines, lines_known = kinematic_lines(current, kin, np.asarray(prep.rec.time, float), r_cur,
+                                                             w > 0, prep.lines, prep.cond), True
+                zmax = _identifiability(fitted, space, kin, tau, w, kap1, cand, kin_lines)
+                if why is None and not zmax >= cfg.identifiability_z:
+                    why = (f"not identifiable on this excitation: its parameters are within "
+                           f"{zmax:.2g} standard errors of no effect")
+                cv_cur = cv1 = p_val = None
+                # the model carried forward; its cross-validated residual is the test's own when it is
+                # judged against the current model itself
+                fwd = _Reference(fitted, space.specs, r1)
+                riv = {"rival": None, "cv_rmse_rival_nm": None, "p_rival": None}
+                term_alts = []
+                judged_with = ref.refused
+                v_cur, v1 = _rms(r_cur, val), _rms(r1, val)
+                if why is None:
                     if judged_with is None:
-                        fwd = _Reference(fitted, space.specs, r1, _cv=r1_cv)
-                    cv_fwd, cv_fwd_before = (_rms(fwd.cross_validated(kin, tau, split, cfg), split.cv_mask),
-                                             _rms(cur_ref.cross_validated(kin, tau, split, cfg), split.cv_mask))
-                    if not cv_fwd < cv_fwd_before:
-                        why = (f"lowers the held-out error only with {judged_with}'s structure (cross-validated "
-                               f"{cv_fwd_before:.4g} -> {cv_fwd:.4g} without it)")
-            if why is None:
-                # physics outside the eight that the candidate partly absorbs: a library term
-                # predicts the held-out blocks significantly better than the candidate (one-sided,
-                # Bonferroni over the terms at the naming test's share of alpha)
-                rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
-                if rivals_step.terms:
-                    p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask)
-                               for _, r_g, _ in rivals_step.terms]
-                    top = int(np.argmin(p_under))
-                    g_riv, r_riv, _ = rivals_step.terms[top]
-                    riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
-                           "p_rival": min(1.0, len(p_under) * float(p_under[top]))}
-                    if rejects(riv["p_rival"], cfg.alpha_name):
-                        why = (f"the library's {g_riv.name} term predicts the held-out blocks better (cross-validated "
-                               f"{cv1:.4g} -> {riv['cv_rmse_rival_nm']:.4g}, p {riv['p_rival']:.3g})")
+                        m_test, specs_test, r_test = fitted, space.specs, r1
                     else:
-                        term_alts = _term_alternatives(r1_cv, cv_cur, rivals_step, split, cfg)
-            k1 = len(space.specs) if not frozen else prep.k + sum(
-                len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
-            sse1 = _sse(r1, w)
-            n_train = int(w.sum())
-            dbic = _bic(sse1, kap1, n_train, k1) - _bic(_sse(r_cur, w), kap1, n_train, k1 - len(
-                M.candidate_specs(fitted, len(fitted.candidates) - 1, scales)))
-            trial = {"name": name, "ref": fwd, "delta_bic": dbic,
-                     "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
-                     "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
-                     "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
-                     "identifiability_z": zmax, "rejected_because": why,
-                     "held_out_with": judged_with, "alternative_terms": term_alts} | riv
-            return trial, beyond, fitted, space, r1
+                        m_test, _, space_n, r_test = _fit_from(ref.model, test.best_guess[i])
+                        specs_test = space_n.specs
+                    r_cur_cv = ref.cross_validated(kin, tau, split, cfg)
+                    r1_cv = _cross_validated(m_test, specs_test, kin, tau, keep, split.blocks, split.phase,
+                                             split.folds, cfg.max_steps)
+                    cv_cur, cv1 = _rms(r_cur_cv, split.cv_mask), _rms(r1_cv, split.cv_mask)
+                    p_val = (held_out_p(r_cur_cv, r1_cv, split.blocks, split.cv_mask)
+                             if np.all(np.isfinite(r1_cv)) else 1.0)
+                    if not (cv1 < cv_cur and rejects(p_val, cfg.alpha_confirm)):
+                        why = (f"does not lower the held-out error significantly (cross-validated {cv_cur:.4g} -> "
+                               f"{cv1:.4g}, p {p_val:.3g})")
+                    else:
+                        # the report's held-out error is the model carried forward's, cross-validated
+                        # alike: judged against a refused structure, it must still be below the current one's
+                        if judged_with is None:
+                            fwd = _Reference(fitted, space.specs, r1, _cv=r1_cv)
+                        cv_fwd, cv_fwd_before = (_rms(fwd.cross_validated(kin, tau, split, cfg), split.cv_mask),
+                                                 _rms(cur_ref.cross_validated(kin, tau, split, cfg), split.cv_mask))
+                        if not cv_fwd < cv_fwd_before:
+                            why = (f"lowers the held-out error only with {judged_with}'s structure (cross-validated "
+                                   f"{cv_fwd_before:.4g} -> {cv_fwd:.4g} without it)")
+                if why is None:
+                    # physics outside the eight that the candidate partly absorbs: a library term
+                    # predicts the held-out blocks significantly better than the candidate (one-sided,
+                    # Bonferroni over the terms at the naming test's share of alpha)
+                    rivals_step = ref.library_rivals(ctx, kin, split, prep, floor)
+                    if rivals_step.terms:
+                        p_under = [held_out_p(r1_cv, r_g, split.blocks, split.cv_mask)
+                                   for _, r_g, _ in rivals_step.terms]
+                        top = int(np.argmin(p_under))
+                        g_riv, r_riv, _ = rivals_step.terms[top]
+                        riv = {"rival": g_riv.name, "cv_rmse_rival_nm": _rms(r_riv, split.cv_mask),
+                               "p_rival": min(1.0, len(p_under) * float(p_under[top]))}
+                        if rejects(riv["p_rival"], cfg.alpha_name):
+                            why = (f"the library's {g_riv.name} term predicts the held-out blocks better (cross-validated "
+                                   f"{cv1:.4g} -> {riv['cv_rmse_rival_nm']:.4g}, p {riv['p_rival']:.3g})")
+                        else:
+                            term_alts = _term_alternatives(r1_cv, cv_cur, rivals_step, split, cfg)
+                k1 = len(space.specs) if not frozen else prep.k + sum(
+                    len(M.candidate_specs(fitted, j, scales)) for j in range(len(fitted.candidates)))
+                sse1 = _sse(r1, w)
+                n_train = int(w.sum())
+                dbic = _bic(sse1, kap1, n_train, k1) - _bic(_sse(r_cur, w), kap1, n_train, k1 - len(
+                    M.candidate_specs(fitted, len(fitted.candidates) - 1, scales)))
+                trial = {"name": name, "ref": fwd, "delta_bic": dbic,
+                         "p_family": float(test.p_adjusted[i]), "p_validation": p_val,
+                         "validation_rmse_nm": v1, "validation_rmse_before_nm": v_cur,
+                         "cv_rmse_nm": cv1, "cv_rmse_before_nm": cv_cur, "fit": finfo,
+                         "identifiability_z": zmax, "rejected_because": why,
+                         "held_out_with": judged_with, "alternative_terms": term_alts} | riv
+                return trial, beyond, fitted, space, r1
 
-        for i in significant:
-            t, beyond, fitted, space, r1 = evaluate(i, ref)
-            trials.append(t)
-            if beyond and ref.refused is None:
-                ref = _Reference(fitted, space.specs, r1, refused=t["name"])
-            if t["rejected_because"] is None or t["p_validation"] is not None:
-                # one held-out test per step (p_validation is set once a candidate is held out): the
-                # first plausible, identifiable candidate's result decides whether the step names
-                # anything, so the test's alpha bounds the step without a correction over tries
+            for i in significant:
+                t, beyond, fitted, space, r1 = evaluate(i, ref)
+                trials.append(t)
+                if beyond and ref.refused is None:
+                    ref = _Reference(fitted, space.specs, r1, refused=t["name"])
+                if t["rejected_because"] is None or t["p_validation"] is not None:
+                    # one held-out test per step (p_validation is set once a candidate is held out): the
+                    # first plausible, identifiable candidate's result decides whether the step names
+                    # anything, so the test's alpha bounds the step without a correction over tries
+                    break
+            if trials and trials[-1]["rejected_because"] is None:
+                # the step names physics; which physics: the next significant candidate is held out
+                # too, and the one that predicts the held-out blocks better is named (a tie in the
+                # linearised gains is not a tie in the refitted models, and the gain's order can
+                # be wrong where two shapes share most of the residual)
+                k = significant.index(test.names.index(trials[-1]["name"]))
+                if k + 1 < len(significant):
+                    trials.append(evaluate(significant[k + 1], ref)[0])
+            log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
+                        "alpha_held_out": cfg.alpha_confirm,
+                        "tests": test.to_json(),
+                        "joint_refits": [{k: t[k] for k in ("name", "p_family", "delta_bic", "p_validation",
+                                                             "validation_rmse_nm", "validation_rmse_before_nm",
+                                                             "cv_rmse_nm", "cv_rmse_before_nm", "identifiability_z",
+                                                             "rival", "cv_rmse_rival_nm", "p_rival",
+                                                             "rejected_because", "held_out_with", "alternative_terms")}
+                                       for t in trials]})
+            ok = [t for t in trials if t["rejected_because"] is None]
+            if not ok:
                 break
-        if trials and trials[-1]["rejected_because"] is None:
-            # the step names physics; which physics: the next significant candidate is held out
-            # too, and the one that predicts the held-out blocks better is named (a tie in the
-            # linearised gains is not a tie in the refitted models, and the gain's order can
-            # be wrong where two shapes share most of the residual)
-            k = significant.index(test.names.index(trials[-1]["name"]))
-            if k + 1 < len(significant):
-                trials.append(evaluate(significant[k + 1], ref)[0])
-        log.append({"step": len(accepted) + 1, "null_draws": test.n_draws, "alpha": cfg.alpha_name,
-                    "alpha_held_out": cfg.alpha_confirm,
-                    "tests": test.to_json(),
-                    "joint_refits": [{k: t[k] for k in ("name", "p_family", "delta_bic", "p_validation",
-                                                         "validation_rmse_nm", "validation_rmse_before_nm",
-                                                         "cv_rmse_nm", "cv_rmse_before_nm", "identifiability_z",
-                                                         "rival", "cv_rmse_rival_nm", "p_rival",
-                                                         "rejected_because", "held_out_with", "alternative_terms")}
-                                   for t in trials]})
-        ok = [t for t in trials if t["rejected_because"] is None]
-        if not ok:
-            break
-        best = min(ok, key=lambda t: t["cv_rmse_nm"])
-        best["alternatives"] = _alternatives(best, [t for t in ok if t is not best], kin, tau, split, cfg)
-        accepted.append((best["name"], best))
-        cur_ref = best["ref"]
-        if not frozen:
-            # the structure changed: the model carried forward is the least squares of it, its
-            # Stribeck hump searched again (a baseline fitted humpless with the effect missing
-            # stays so in the joint refit)
-            moved, r = hump_restart(cur_ref.model, M.FitSpace(cur_ref.specs), kin, tau, w, scales["V"], cfg)
-            log[-1]["hump_restarted"] = r is not None
-            if r is not None:
-                cur_ref = dataclasses.replace(cur_ref, model=moved, r=r * keep, _cv=None, _rivals=None)
-        bar.update(1)
+            best = min(ok, key=lambda t: t["cv_rmse_nm"])
+            best["alternatives"] = _alternatives(best, [t for t in ok if t is not best], kin, tau, split, cfg)
+            accepted.append((best["name"], best))
+            cur_ref = best["ref"]
+            if not frozen:
+                # the structure changed: the model carried forward is the least squares of it, its
+                # Stribeck hump searched again (a baseline fitted humpless with the effect missing
+                # stays so in the joint refit)
+                moved, r = hump_restart(cur_ref.model, M.FitSpace(cur_ref.specs), kin, tau, w, scales["V"], cfg)
+                log[-1]["hump_restarted"] = r is not None
+                if r is not None:
+                    restarted = dataclasses.replace(cur_ref, model=moved, r=r * keep, _cv=None, _rivals=None)
+                    if not may_branch:
+                        cur_ref = restarted
+                    else:
+                        # a lower training SSE need not lead to the better model: the selection goes
+                        # on from both fits (restarts inside them kept on training SSE), and the final
+                        # model that predicts the held-out blocks better is kept (a restarted hump can
+                        # take a share of a later finding)
+                        bar.update(1)
+                        paths = [steps(ref_i, list(accepted), [dict(e) for e in log], False)
+                                 for ref_i in (restarted, cur_ref)]
+                        cvs = [_rms(p[0].cross_validated(kin, tau, split, cfg), split.cv_mask) for p in paths]
+                        kept = int(np.argmin(cvs))
+                        step = paths[kept][2][len(log) - 1]
+                        step["hump_restarted"] = kept == 0
+                        step["hump_restart_paths"] = {
+                            "cv_rmse_restarted_nm": cvs[0], "cv_rmse_not_restarted_nm": cvs[1],
+                            "named_restarted": [a[0] for a in paths[0][1]],
+                            "named_not_restarted": [a[0] for a in paths[1][1]]}
+                        return paths[kept]
+            if may_branch:
+                bar.update(1)
+        return cur_ref, accepted, log
+
+    out = steps(start, accepted, log, True)
     bar.close()
-    return cur_ref, accepted, log
+    return out
 
 
 def diagnose(rec, *, params: dict | None = None, refit: bool = False, friction: str = "lugre",
