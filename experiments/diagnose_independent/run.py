@@ -3878,6 +3878,48 @@ def outside26_settings():
     return _outside_set("outside26_", OUTSIDE9_ROWS, _OUT26_RECIPES, 26100)
 
 
+# fresh54: the design of c83c071 (after a moved hump the selection goes on from both fits and keeps
+# the path of lower cross-validated error), frozen before its first run: fresh3's 24 effect rows at
+# rates and variations drawn as fresh52's with numpy default_rng(66). None chosen
+_F54_FS = {"a": 850.0, "b": 700.0, "c": 295.0, "d": 655.0, "e": 555.0, "f": 800.0, "g": 315.0, "h": 535.0,
+           "i": 550.0}
+_F54_VARIED = _varied(2.5685, 1.1563, 0.1868)
+
+
+def fresh54_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 295-850 Hz (by recipe, drawn), seeds 26200 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh54", _F54_FS, _F54_VARIED, 26200)
+
+
+# calib60: the design of c83c071, frozen before its first run: 24 effect-free rows on three plants no
+# earlier set used, drawn by calib53's recipe (numpy default_rng(67)), the position sensor alone in
+# rows 0-11 and both sensors in rows 12-23. None chosen
+ORNATE = T.Plant(J=0.110, Fc=0.589, Fs=0.857, vs=0.0419, sigma2=1.178, sigma0=189.0, sigma1=1.82)
+HEARTY = T.Plant(J=0.097, Fc=0.749, Fs=0.994, vs=0.0665, sigma2=0.879, sigma0=122.0, sigma1=1.38)
+ZESTY = T.Plant(J=0.158, Fc=1.097, Fs=1.745, vs=0.0587, sigma2=0.971, sigma0=180.0, sigma1=2.13)
+_add_plants({"ornate": (ORNATE, T.VelocityPIController(kp=5.3, ki=31.9)),
+             "hearty": (HEARTY, T.VelocityPIController(kp=4.7, ki=28.1)),
+             "zesty": (ZESTY, T.VelocityPIController(kp=7.6, ki=45.8))},
+            {"ornate": PidTuning(2.9, 0.002),
+             "hearty": PidTuning(3.2, 0.002),
+             "zesty": PidTuning(3.0, 0.003)})
+
+
+def calib60_settings(n: int = 24):
+    """A sixtieth effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the position sensor alone in rows 0-11 and both sensors in rows 12-23, on ORNATE,
+    HEARTY and ZESTY, at drawn rates 230-750 Hz and torque noise 0.039-0.079 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 26300 + i."""
+    return _effect_free_set("calib60", CALIB41_EXCITATIONS, ["ornate", "hearty", "zesty"],
+                            [(True, False), (True, True), (False, True)], [625.0, 280.0, 565.0, 750.0, 230.0],
+                            [0.039, 0.079, 0.060], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            26300, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3932,6 +3974,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside24": outside24_settings, "outside25": outside25_settings,
             "fresh52": fresh52_settings, "calib58": calib58_settings,
             "fresh53": fresh53_settings, "calib59": calib59_settings,
+            "fresh54": fresh54_settings, "calib60": calib60_settings,
             "outside26": outside26_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
@@ -4122,7 +4165,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "outside20", "outside21", "fresh46", "calib52", "fresh47", "calib53", "fresh48", "calib54",
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
-               "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26")
+               "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
+               "fresh54", "calib60")
 
 
 def main():
