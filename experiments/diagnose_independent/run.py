@@ -4115,6 +4115,9 @@ def run_new(job, top_k, cache=None):
     if rep.selection_log:
         row["step1_tests"] = rep.selection_log[0]["tests"]
         row["step1_refits"] = rep.selection_log[0]["joint_refits"]
+        # where a moved hump sent the selection down two paths: which was kept, and what each named
+        row["hump_restarts"] = [{"step": e["step"], "kept": e.get("hump_restarted"), **e["hump_restart_paths"]}
+                                for e in rep.selection_log if "hump_restart_paths" in e]
     return row
 
 
