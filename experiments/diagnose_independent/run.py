@@ -3920,6 +3920,18 @@ def calib60_settings(n: int = 24):
                             26300, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# outside27: the design of c83c071, frozen before its first run: outside14's rows on calib60's plants,
+# rates drawn as outside22's (numpy default_rng(68)). None chosen
+_OUT27_RECIPES = _outside14_on({"gritty": "ornate", "sprightly": "hearty", "stolid": "zesty"},
+                               (490.0, 710.0, 605.0, 575.0, 785.0, 615.0, 280.0, 515.0))
+
+
+def outside27_settings():
+    """A twenty-seventh outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on ORNATE, HEARTY and ZESTY, at drawn rates (280-785 Hz) and seeds 26400 + k."""
+    return _outside_set("outside27_", OUTSIDE9_ROWS, _OUT27_RECIPES, 26400)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3974,7 +3986,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside24": outside24_settings, "outside25": outside25_settings,
             "fresh52": fresh52_settings, "calib58": calib58_settings,
             "fresh53": fresh53_settings, "calib59": calib59_settings,
-            "fresh54": fresh54_settings, "calib60": calib60_settings,
+            "fresh54": fresh54_settings, "calib60": calib60_settings, "outside27": outside27_settings,
             "outside26": outside26_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
@@ -4169,7 +4181,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
                "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
-               "fresh54", "calib60")
+               "fresh54", "calib60", "outside27")
 
 
 def main():
