@@ -827,8 +827,8 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     plausible and identifiable, or the held-out test fails. After a finding the Stribeck hump is
     searched again (:func:`hump_restart`); where that moves the fit, the selection goes on from both
     fits and keeps the path whose final model has the lower cross-validated error (the log's
-    ``hump_restart_paths``). ``start``: the baseline as the first step's reference. Returns the final model's reference (its cross-validated residual is the
-    report's held-out error) with the log."""
+    ``hump_restart_paths``). ``start``: the baseline as the first step's reference. Returns the final
+    model's reference (its cross-validated residual is the report's held-out error) with the log."""
     from tqdm.auto import tqdm
 
     from ._calibrate import test_candidates
