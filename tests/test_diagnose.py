@@ -146,16 +146,21 @@ def test_diagnosis_to_json_is_the_report(tmp_path):
     assert load_params_json(path)["J"] == rep.baseline.params["J"]
 
 
+def _ripple_and_offset_recording():
+    """A staircase through a joint with a position ripple and a torque offset (100 Hz)."""
+    from lugre_jax import testing as T
+
+    exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
+    g = T.generate(exc, [T.PositionRippleEffect(0.12, 5.0, 1.0), T.AsymmetryEffect(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
+    return g.to_recording()
+
+
 def test_two_findings_report_the_final_joint_fit():
     """Ripple + torque offset, both offered: both are named, one per step, and the second step
     refits both (the first one alone takes a part of the other: the joint dwells near the start
     position at slow speed, where the ripple's sine is ~0.8). Each finding reports its parameters
     in that final joint model, within 10 % (2 % for the period) of the truth."""
-    from lugre_jax import testing as T
-
-    exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
-    g = T.generate(exc, [T.PositionRippleEffect(0.12, 5.0, 1.0), T.AsymmetryEffect(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
-    rep = diagnose(g.to_recording(), progress=False, candidates=["position_ripple", "asymmetry"])
+    rep = diagnose(_ripple_and_offset_recording(), progress=False, candidates=["position_ripple", "asymmetry"])
     assert sorted(rep.named) == ["asymmetry", "position_ripple"], rep.selection_log
     ripple, asym = sorted(rep.missing_physics, key=lambda f: f.name != "position_ripple")
     for f in (ripple, asym):
@@ -645,17 +650,15 @@ def test_a_moved_hump_is_kept_only_where_its_path_predicts_better(monkeypatch):
     import equinox as eqx
     import jax.numpy as jnp
 
-    from lugre_jax import testing as T
     from lugre_jax.diagnose import _select as S
 
     def restart_tripled(model, space, kin, tau, weights, V, cfg, **kw):
         moved = eqx.tree_at(lambda m: m.J, model, jnp.asarray(3.0 * float(model.J)))
-        return moved, np.asarray(tau) - np.asarray(S.M.predict(moved, kin))
+        return moved, S._weighted_sse(moved, kin, np.asarray(tau), np.asarray(weights, float))[1]
 
     monkeypatch.setattr(S, "hump_restart", restart_tripled)
-    exc = T.Staircase(speeds=(0.02, 0.1, 0.5, 2.0, 4.0), dwell=6.0, seed=3)
-    g = T.generate(exc, [T.PositionRippleEffect(0.12, 5.0, 1.0), T.AsymmetryEffect(0.1)], sensors=T.Sensors(fs=100.0), seed=9)
-    rep = diagnose(g.to_recording(), progress=False, candidates=["position_ripple", "asymmetry"], max_effects=1)
+    rep = diagnose(_ripple_and_offset_recording(), progress=False, candidates=["position_ripple", "asymmetry"],
+                   max_effects=1)
     paths = rep.selection_log[0]["hump_restart_paths"]
     assert paths["cv_rmse_not_restarted_nm"] < paths["cv_rmse_restarted_nm"], paths
     assert rep.selection_log[0]["hump_restarted"] is False

@@ -836,7 +836,6 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
     tau = np.asarray(prep.rec.torque)
     kin, w, keep, val = prep.kin, split.w, split.keep, split.val
     scales = floor.scales
-    accepted, log = [], []
     bar = tqdm(total=cfg.max_effects, desc="select", disable=not progress, leave=False)
 
     def steps(cur_ref, accepted, log, may_branch):
@@ -1020,7 +1019,7 @@ def _select(prep, split, floor, cfg, pool, fit_offset, frozen, progress, start: 
                 bar.update(1)
         return cur_ref, accepted, log
 
-    out = steps(start, accepted, log, True)
+    out = steps(start, [], [], True)
     bar.close()
     return out
 
