@@ -510,12 +510,34 @@ def test_noise_free_simulation_is_reported_as_such(tmp_path):
     assert abs(b["torque_noise_nm"] / 0.02 - 1) < 0.1, b
 
 
+@pytest.mark.parametrize("correlation", [0.8, 0.95])
+def test_starts_are_spaced_by_their_shapes_correlation(correlation):
+    """spaced_starts: on a family of bumps whose widths span two decades, each start's shape
+    correlates at least ``correlation`` with the next start's, the shape after that next start
+    falls below it (no start is wasted), the first and last shapes are starts, and a closer bound
+    takes more of them."""
+    from lugre_jax.diagnose._physics import spaced_starts
+
+    t = np.linspace(-1.0, 1.0, 4001)
+    widths = np.geomspace(0.005, 0.5, 60)
+    shapes = np.exp(-0.5 * (t[None, :] / widths[:, None]) ** 2)
+    u = shapes / np.linalg.norm(shapes, axis=1)[:, None]
+    picks = spaced_starts(shapes, correlation)
+    assert picks[0] == 0 and picks[-1] == len(widths) - 1 and picks == sorted(set(picks))
+    for p, q in zip(picks[:-1], picks[1:]):
+        assert u[p] @ u[q] >= correlation or q == p + 1
+        if q < len(widths) - 1:
+            assert u[p] @ u[q + 1] < correlation
+    assert 2 < len(picks) < len(widths)
+    assert len(spaced_starts(shapes, 0.5 * (1.0 + correlation))) > len(picks)
+
+
 def test_a_backlash_width_is_found_by_its_profile_where_lm_leaves_it():
     """On an encoder's quantised positions the dead band's torque changes with its width only where
     a gap crossing ends on another encoder step, so the least-squares objective is piecewise flat
     and LM leaves a width where it starts; ``fit`` profiles it (a log grid, the share solved at
     each value). Encoder step 0.001 deg, true width 0.025 deg: from starts 1.8x and 0.45x the true
-    width (inside the factor 3 between the candidate's starts) the fit lands within 5 % of it,
+    width (as far as a start can be from it) the fit lands within 5 % of it,
     while LM alone from 1.8x moves it by under 5 % (and fits worse). Its identifiability is the
     share's, the width held."""
     import equinox as eqx

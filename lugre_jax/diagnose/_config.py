@@ -49,6 +49,12 @@ class DiagnoseConfig:
       cross-validated phases better, one-sided, Bonferroni over the terms at ``alpha_name``. A
       physics outside the eight that a candidate partly absorbs is then left to the attribution; a
       correct candidate loses its name this way at most at ``alpha_name``.
+    - ``start_correlation`` (0.8): a candidate's fixed starts along a shape parameter (the backlash's
+      width, tried from the smallest plausible gap to the bound) are spaced on each recording so that
+      neighbouring starts' torque shapes correlate at least this much there; a gap midway between
+      two starts then correlates at least cos(arccos(0.8)/2) = 0.95 with the nearer one's, which keeps
+      90 % of its one-column gain (the width's own derivative column recovers part of the rest). A
+      closer spacing adds starts, and so cost and a slightly higher null maximum, for little gain.
     - ``max_steps`` (80): Levenberg-Marquardt steps of a refit, warm-started.
     - ``resolution`` (0.15): the smallest structure locate claims, in units of the noise floor: its
       binned means, its cross-correlations with the velocity and its sign and the friction trend must
@@ -164,6 +170,7 @@ class DiagnoseConfig:
     shape_bands: int = 10
     gravity_min_variation: float = 0.05
     bristle_memory_share: float = 0.1
+    start_correlation: float = 0.8
 
     def __post_init__(self):
         if not 0.0 < self.alpha < 1.0:
@@ -179,7 +186,8 @@ class DiagnoseConfig:
         for name, lo, hi in (("resolved_share", 0.0, math.inf), ("max_event_share", 0.0, 1.0),
                              ("event_alpha", 0.0, 1.0), ("outlier_std", 0.0, math.inf),
                              ("colour_chi2", 0.0, math.inf), ("big_acceleration", 0.0, math.inf),
-                             ("gravity_min_variation", 0.0, math.inf), ("noise_free_share", 0.0, 1.0)):
+                             ("gravity_min_variation", 0.0, math.inf), ("noise_free_share", 0.0, 1.0),
+                             ("start_correlation", 0.0, 1.0)):
             x = getattr(self, name)
             if not lo < x < hi:
                 raise ValueError(f"DiagnoseConfig.{name}: expected a number in ({lo:g}, {hi:g}), got {x}")

@@ -241,6 +241,32 @@ class StribeckShape(AbstractCandidate):
         return {"delta": float(self.delta)}
 
 
+def spaced_starts(shapes: np.ndarray, correlation: float) -> list[int]:
+    """Of trial shapes along one parameter (rows, in its order), the fewest starts, first and last
+    included, such that each start's shape correlates at least ``correlation`` with the next one's
+    (on these samples): the shape is then never far from a start, whatever the recording's sampling
+    and excitation make of the parameter (a fixed spacing in the parameter is too coarse on one
+    recording and wasteful on another). Depends on the kinematics alone, not on the residual, so
+    every null draw sees the same starts."""
+    norm = np.linalg.norm(shapes, axis=1)
+    u = shapes / np.where(norm > 0, norm, 1.0)[:, None]
+    picks, i, m = [0], 0, len(shapes)
+    while i < m - 1:
+        c = u[i + 1:] @ u[i]
+        below = np.flatnonzero(c < correlation)
+        # the last shape before the first one below the bound (the next one, where even it is below)
+        j = i + max(int(below[0]), 1) if below.size else m - 1
+        picks.append(j)
+        i = j
+    return picks
+
+
+@eqx.filter_jit
+def _backlash_shapes(widths, kin, terms, F):
+    """Each width's backlash torque at share 1 (rows), in one compiled pass."""
+    return jax.vmap(lambda w: Backlash(w, jnp.ones_like(w)).extra_torque(kin, terms, F, None))(widths)
+
+
 def play_operator(theta, width):
     """Load-side angle behind a dead band of total ``width`` (play/backlash operator)."""
     half = 0.5 * width
@@ -316,20 +342,23 @@ class Backlash(AbstractCandidate):
         return self.share * (frac * F_load - F)
 
     def initial_guesses(self, ctx):
-        # share by least squares on the located residual, for each trial width
+        # share by least squares on the located residual, for each start width
         P = ctx.scales["P"]
         kin = ctx.kin
         terms = Terms(ctx.baseline.friction, kin.v, jnp.ones_like(kin.v), kin.dpath)
         F = jnp.asarray(ctx.friction_torque)
         r = np.asarray(ctx.residual)
-        # a gap's width has nothing to do with the position span: try widths from the smallest
-        # plausible one (four steps of the position resolution) up to the bound, a factor ~3 apart
+        # a gap's width has nothing to do with the position span: widths from the smallest plausible
+        # one (four steps of the position resolution) up to the bound, on a grid fine enough (a
+        # factor 1.1) that neighbouring shapes correlate well above the starts' bound
         lo = max(4 * ctx.position_resolution, 1e-6 * P)
+        widths = np.geomspace(lo, 0.02 * P, max(int(np.ceil(np.log(0.02 * P / lo) / np.log(1.1))) + 1, 2))
+        shapes = np.asarray(_backlash_shapes(jnp.asarray(widths), kin, terms, F))
         out = []
-        for w in np.geomspace(lo, 0.02 * P, max(int(np.ceil(np.log(0.02 * P / lo) / np.log(3.0))) + 1, 2)):
-            x = np.asarray(Backlash(w, 1.0).extra_torque(kin, terms, F, None))
+        for i in spaced_starts(shapes[:, r != 0], ctx.config.start_correlation):
+            x = shapes[i]
             share = float(np.dot(x, r) / max(np.dot(x, x), 1e-300))
-            out.append(Backlash(float(w), float(np.clip(share, 2e-4, 0.9))))
+            out.append(Backlash(float(widths[i]), float(np.clip(share, 2e-4, 0.9))))
         return out
 
     def applicable(self, ctx):
