@@ -3932,6 +3932,48 @@ def outside27_settings():
     return _outside_set("outside27_", OUTSIDE9_ROWS, _OUT27_RECIPES, 26400)
 
 
+# fresh55: the design of the backlash's correlation-spaced width starts, frozen before its first
+# run: fresh3's 24 effect rows at rates and variations drawn as fresh52's with numpy
+# default_rng(69). None chosen
+_F55_FS = {"a": 625.0, "b": 590.0, "c": 810.0, "d": 730.0, "e": 560.0, "f": 780.0, "g": 605.0, "h": 535.0,
+           "i": 255.0}
+_F55_VARIED = _varied(1.1214, 1.1538, 1.2939)
+
+
+def fresh55_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 255-810 Hz (by recipe, drawn), seeds 26500 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh55", _F55_FS, _F55_VARIED, 26500)
+
+
+# calib61: the design of fresh55, frozen before its first run: 24 effect-free rows on three plants no
+# earlier set used, drawn by calib53's recipe (numpy default_rng(70)), the velocity sensor alone in
+# rows 0-11 and both sensors in rows 12-23. None chosen
+FRISKY = T.Plant(J=0.106, Fc=1.007, Fs=1.406, vs=0.0686, sigma2=1.292, sigma0=193.0, sigma1=1.81)
+CHIPPER = T.Plant(J=0.085, Fc=0.502, Fs=0.771, vs=0.0393, sigma2=0.712, sigma0=175.0, sigma1=1.54)
+PERKY = T.Plant(J=0.080, Fc=0.534, Fs=0.732, vs=0.0425, sigma2=1.274, sigma0=147.0, sigma1=1.37)
+_add_plants({"frisky": (FRISKY, T.VelocityPIController(kp=5.1, ki=30.7)),
+             "chipper": (CHIPPER, T.VelocityPIController(kp=4.1, ki=24.7)),
+             "perky": (PERKY, T.VelocityPIController(kp=3.8, ki=23.2))},
+            {"frisky": PidTuning(2.8, 0.002),
+             "chipper": PidTuning(2.9, 0.002),
+             "perky": PidTuning(3.0, 0.003)})
+
+
+def calib61_settings(n: int = 24):
+    """A sixty-first effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the velocity sensor alone in rows 0-11 and both sensors in rows 12-23, on FRISKY,
+    CHIPPER and PERKY, at drawn rates 280-755 Hz and torque noise 0.058-0.091 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 26600 + i."""
+    return _effect_free_set("calib61", CALIB41_EXCITATIONS, ["frisky", "chipper", "perky"],
+                            [(False, True), (True, True), (True, False)], [325.0, 315.0, 755.0, 280.0, 630.0],
+                            [0.083, 0.091, 0.058], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            26600, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -3988,6 +4030,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh53": fresh53_settings, "calib59": calib59_settings,
             "fresh54": fresh54_settings, "calib60": calib60_settings, "outside27": outside27_settings,
             "outside26": outside26_settings,
+            "fresh55": fresh55_settings, "calib61": calib61_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4181,7 +4224,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
                "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
-               "fresh54", "calib60", "outside27")
+               "fresh54", "calib60", "outside27", "fresh55", "calib61")
 
 
 def main():
