@@ -27,7 +27,7 @@ kinematics do not resolve left out), ``lam_val`` over the fixed held-out phase's
 confirm an attribution term), to <out>/oracle_kept_<study>.jsonl; ``--only`` takes
 comma-separated keys. ``--tally S1,S2`` reads the written rows of studies instead: of the rows an
 oracle finds with power 0.9 or more, how many the diagnosis got exactly right (``--fitted``: by
-``oracle_power_fitted``).
+``oracle_power_fitted``; with ``--kept`` also by the run rows' ``oracle_lam_kept``).
 """
 
 from __future__ import annotations
@@ -118,28 +118,42 @@ def oracle_fitted(g, params: dict, phi: float, train_share: float = 0.8) -> dict
             "fitted_params": {k: float(v) for k, v in zip(PARAMS, np.exp(fit.x))}}
 
 
-def tally(studies: list[str], power: float = 0.9, key: str = "oracle_power") -> None:
+def tally(studies: list[str], power: float = 0.9, key: str = "oracle_power", kept: bool = False) -> None:
     """Over the studies' written oracle rows with ``key`` (``oracle_power``, or
     ``oracle_power_fitted`` where the rows have it) at least ``power``: how many the diagnosis got
-    exactly right (their ``runs_<study>.jsonl``), and the misses."""
+    exactly right (their ``runs_<study>.jsonl``), and the misses. ``kept``: the power is also held
+    to the run row's ``oracle_lam_kept`` (the smaller of the two): what a test could see on the
+    samples whose kinematics the recording resolves. Prints the summed power too (the oracle's
+    expected number of rows found)."""
     res = Path(__file__).resolve().with_name("results")
+    crit = chi2.isf(DiagnoseConfig().alpha_name / len(CANDIDATES), 1)
     hit = n = 0
+    expected = 0.0
     for study in studies:
         runs = {d["key"]: d for d in load(res / study / f"runs_{study}.jsonl")}
         for o in map(json.loads, (res / study / f"oracle_{study}.jsonl").read_text().splitlines()):
             run = runs.get(o["key"])
-            if key in o and o[key] >= power and run is not None:
+            if key not in o or run is None:
+                continue
+            p = o[key]
+            if kept and run.get("oracle_lam_kept") is not None:
+                p = min(p, float(ncx2.sf(crit, 1, run["oracle_lam_kept"])))
+            expected += p
+            if p >= power:
                 n += 1
                 hit += bool(run["correct"])
                 if not run["correct"]:
-                    print(f"missed: {o['key']} ({key} {o[key]:.2f}, verdict {run['verdict']})")
-    print(f"rows an oracle finds with power >= {power} ({key}): {hit} of {n} exactly right")
+                    print(f"missed: {o['key']} (power {p:.2f}, verdict {run['verdict']})")
+    what = key + (" and oracle_lam_kept" if kept else "")
+    print(f"rows an oracle finds with power >= {power} ({what}): {hit} of {n} exactly right; "
+          f"the oracle's expected count {expected:.1f}")
 
 
 def main() -> None:
-    if "--tally" in sys.argv:  # python oracle_power.py --tally outside10,outside11 [--fitted]
+    if "--tally" in sys.argv:  # python oracle_power.py --tally outside10,outside11 [--fitted] [--kept]
         return tally(sys.argv[sys.argv.index("--tally") + 1].split(","),
-                     key="oracle_power_fitted" if "--fitted" in sys.argv else "oracle_power")
+                     key="oracle_power_fitted" if "--fitted" in sys.argv else "oracle_power",
+                     kept="--kept" in sys.argv)
     a, res, out = R.study_cli(__doc__,
                               ("--kept", {"action": "store_true", "help": "also over the samples the diagnosis keeps"}),
                               ("--only", {"default": "", "help": "comma-separated keys (default: every effect row)"}))
