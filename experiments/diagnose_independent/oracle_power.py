@@ -58,6 +58,23 @@ def _whiten(x: np.ndarray, phi: float) -> np.ndarray:
     return out
 
 
+def power_at(lam):
+    """The oracle's power at noncentrality ``lam``: a one-column chi-square test at the naming test's
+    level, ``alpha/3`` shared over the eight candidates (Bonferroni)."""
+    return ncx2.sf(chi2.isf(DiagnoseConfig().alpha_name / len(CANDIDATES), 1), 1, lam)
+
+
+def _predict_along(kin, params: dict) -> np.ndarray:
+    return np.asarray(predict(baseline_from_params(params | {"offset": 0.0}), kin), float)
+
+
+def effect_torque(g, params: dict, kin=None) -> np.ndarray:
+    """The effect's torque on a generated recording: its torque without noise less the generator's
+    own plant (``params``) along the true motion (``kin``: its true kinematics, made when None)."""
+    kin = R.true_kinematics(g) if kin is None else kin
+    return np.asarray(g.true["torque"], float) - _predict_along(kin, params)
+
+
 def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> dict:
     """``lam`` and the effect's rms before and after the baseline's directions (over the noise std).
     ``rows``: the training samples (a mask; the diagnosis's kept training samples, as ``run.py``
@@ -65,9 +82,9 @@ def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> 
     kin = R.true_kinematics(g)
 
     def pred(p):
-        return np.asarray(predict(baseline_from_params(p | {"offset": 0.0}), kin), float)
+        return _predict_along(kin, p)
 
-    e = np.asarray(g.true["torque"], float) - pred(params)
+    e = effect_torque(g, params, kin)
     cols = []
     for k in PARAMS:
         h = 1e-4
@@ -126,7 +143,6 @@ def tally(studies: list[str], power: float = 0.9, key: str = "oracle_power", kep
     samples whose kinematics the recording resolves. Prints the summed power too (the oracle's
     expected number of rows found)."""
     res = Path(__file__).resolve().with_name("results")
-    crit = chi2.isf(DiagnoseConfig().alpha_name / len(CANDIDATES), 1)
     hit = n = 0
     expected = 0.0
     for study in studies:
@@ -137,7 +153,7 @@ def tally(studies: list[str], power: float = 0.9, key: str = "oracle_power", kep
                 continue
             p = o[key]
             if kept and run.get("oracle_lam_kept") is not None:
-                p = min(p, float(ncx2.sf(crit, 1, run["oracle_lam_kept"])))
+                p = min(p, float(power_at(run["oracle_lam_kept"])))
             expected += p
             if p >= power:
                 n += 1
@@ -160,8 +176,6 @@ def main() -> None:
     runs = {}
     if (res / f"runs_{a.study}.jsonl").exists():
         runs = {d["key"]: d for d in map(json.loads, (res / f"runs_{a.study}.jsonl").read_text().splitlines())}
-    cfg = DiagnoseConfig()
-    crit = chi2.isf(cfg.alpha_name / len(CANDIDATES), 1)
     lines, total, total_fitted, rows = [], 0.0, 0.0, 0
     for job in R.SETTINGS[a.study]():
         if job.get("expected", "none") == "none" or (a.only and job["key"] not in a.only.split(",")):
@@ -170,16 +184,16 @@ def main() -> None:
         row = {"key": job["key"], "expected": job["expected"], "torque_noise_ar": job["torque_noise_ar"]}
         params, phi = R.true_params(job), float(job["torque_noise_ar"])
         row |= oracle(g, params, phi)
-        row["oracle_power"] = float(ncx2.sf(crit, 1, row["lam"]))
+        row["oracle_power"] = float(power_at(row["lam"]))
         row |= oracle_fitted(g, params, phi)
-        row["oracle_power_fitted"] = float(ncx2.sf(crit, 1, row["lam_fitted"]))
+        row["oracle_power_fitted"] = float(power_at(row["lam_fitted"]))
         row["verdict"] = runs.get(job["key"], {}).get("verdict")
         if a.kept:
             rep = diagnose(g.to_recording(), progress=False)
             r0, val = np.asarray(rep.arrays.r0), np.asarray(rep.arrays.val)
             kept = (r0 != 0) & ~val  # the training samples the fit kept (left-out samples carry r0 = 0)
             row["n_kept"], row["lam_kept"] = int(kept.sum()), oracle(g, params, phi, rows=kept)["lam"]
-            row["oracle_power_kept"] = float(ncx2.sf(crit, 1, row["lam_kept"]))
+            row["oracle_power_kept"] = float(power_at(row["lam_kept"]))
             # the fixed held-out phase, which confirms an attribution term: a fifth of the information
             row["n_val"], row["lam_val"] = int(val.sum()), oracle(g, params, phi, rows=val)["lam"]
             row["verdict_now"] = rep.verdict

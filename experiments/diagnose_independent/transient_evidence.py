@@ -2,8 +2,8 @@
 (its squared sum over the torque noise variance, before the baseline's directions are taken off:
 an upper bound) over the training samples the diagnosis keeps, over the samples it leaves out as
 unresolved in moves (transients the kinematics do not resolve) and in dwells (the true speed under
-1 % of its peak throughout), and what is left of the moves' part when the residual is summed over
-each unresolved run (one number a run, its noise std sqrt(n) times the sample's): the most a test
+1 % of its peak throughout), and what is left of the moves' part when the effect's torque is summed
+over each unresolved run (one number a run, its noise std sqrt(n) times the sample's): the most a test
 on each run's torque integral could see, which needs only the run's end velocities. Held-out
 samples are left out. Writes <out>/transient_<study>.jsonl and prints a line a row.
 
@@ -17,7 +17,8 @@ import json
 import numpy as np
 
 import run as R
-from lugre_jax.diagnose import baseline_from_params, diagnose, predict
+from lugre_jax.diagnose import diagnose
+from oracle_power import effect_torque
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -29,9 +30,7 @@ def evidence(job, cache) -> dict:
     g, _ = R.generated(job, cache)
     rep = diagnose(g.to_recording(), progress=False)
     r0, val = np.asarray(rep.arrays.r0), np.asarray(rep.arrays.val)
-    kin = R.true_kinematics(g)
-    params = R.true_params(job) | {"offset": 0.0}
-    effect = np.asarray(g.true["torque"], float) - np.asarray(predict(baseline_from_params(params), kin), float)
+    effect = effect_torque(g, R.true_params(job))
     var = g.torque_noise_std ** 2
     speed = np.abs(np.asarray(g.true["omega"], float))
     kept = (r0 != 0) & ~val
