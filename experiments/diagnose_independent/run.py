@@ -3974,6 +3974,19 @@ def calib61_settings(n: int = 24):
                             26600, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# outside28: the design of bd43a77 (the backlash's correlation-spaced width starts), frozen before its
+# first run: outside14's rows on calib61's plants, rates drawn as outside22's (numpy default_rng(71)).
+# None chosen
+_OUT28_RECIPES = _outside14_on({"gritty": "frisky", "sprightly": "chipper", "stolid": "perky"},
+                               (350.0, 515.0, 655.0, 580.0, 325.0, 225.0, 515.0, 320.0))
+
+
+def outside28_settings():
+    """A twenty-eighth outside set (issue #31), fixed and committed before its first run: outside14's
+    rows and excitations on FRISKY, CHIPPER and PERKY, at drawn rates (225-655 Hz) and seeds 26700 + k."""
+    return _outside_set("outside28_", OUTSIDE9_ROWS, _OUT28_RECIPES, 26700)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -4030,7 +4043,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh53": fresh53_settings, "calib59": calib59_settings,
             "fresh54": fresh54_settings, "calib60": calib60_settings, "outside27": outside27_settings,
             "outside26": outside26_settings,
-            "fresh55": fresh55_settings, "calib61": calib61_settings,
+            "fresh55": fresh55_settings, "calib61": calib61_settings, "outside28": outside28_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4224,7 +4237,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
                "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
-               "fresh54", "calib60", "outside27", "fresh55", "calib61")
+               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28")
 
 
 def main():
