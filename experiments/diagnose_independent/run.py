@@ -3987,6 +3987,20 @@ def outside28_settings():
     return _outside_set("outside28_", OUTSIDE9_ROWS, _OUT28_RECIPES, 26700)
 
 
+# fresh56: the design of bd43a77 (as fresh55's), frozen before its first run: fresh3's 24 effect rows
+# at rates and variations drawn as fresh52's with numpy default_rng(72). None chosen
+_F56_FS = {"a": 795.0, "b": 255.0, "c": 400.0, "d": 325.0, "e": 715.0, "f": 450.0, "g": 625.0, "h": 285.0,
+           "i": 440.0}
+_F56_VARIED = _varied(2.85, 1.2084, -0.9534)
+
+
+def fresh56_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 255-795 Hz (by recipe, drawn), seeds 26800 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh56", _F56_FS, _F56_VARIED, 26800)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -4044,6 +4058,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh54": fresh54_settings, "calib60": calib60_settings, "outside27": outside27_settings,
             "outside26": outside26_settings,
             "fresh55": fresh55_settings, "calib61": calib61_settings, "outside28": outside28_settings,
+            "fresh56": fresh56_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4237,7 +4252,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
                "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
-               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28")
+               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28", "fresh56")
 
 
 def main():
