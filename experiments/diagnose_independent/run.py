@@ -304,6 +304,17 @@ def study_cli(doc: str, *more) -> tuple[argparse.Namespace, Path, Path]:
     return a, res, out
 
 
+def effect_rows(doc: str, name: str) -> tuple[list, Path, Path]:
+    """The per-row analysis scripts' options (:func:`study_cli` with ``--only``, comma-separated job
+    keys): the study's effect rows (those keys alone where given), its generated-recording cache and
+    the output file ``<out>/<name>_<study>.jsonl``."""
+    args, res, out_dir = study_cli(doc, ("--only", {"default": "", "help": "comma-separated job keys"}))
+    keys = [k for k in args.only.split(",") if k]
+    rows = [job for job in jobs(args.study, [11], [1.0, 0.5])
+            if job["expected"] != "none" and (not keys or job["key"] in keys)]
+    return rows, Path(args.cache) if args.cache else res / "cache", out_dir / f"{name}_{args.study}.jsonl"
+
+
 def null_settings(n: int = 32):
     """``n`` effect-free settings: a deterministic walk through the grid, so that every value of
     every setting appears (not the full product)."""

@@ -53,13 +53,8 @@ def evidence(job, cache) -> dict:
 
 
 def main() -> None:
-    args, res, out_dir = R.study_cli(__doc__, ("--only", {"default": "", "help": "comma-separated job keys"}))
-    keys = [k for k in args.only.split(",") if k]
-    cache = args.cache or res / "cache"
-    out = out_dir / f"transient_{args.study}.jsonl"
-    for job in R.jobs(args.study, [11], [1.0, 0.5]):
-        if keys and job["key"] not in keys:
-            continue
+    rows, cache, out = R.effect_rows(__doc__, "transient")
+    for job in rows:
         row = evidence(job, cache)
         with open(out, "a") as fh:
             fh.write(json.dumps(row) + "\n")
