@@ -4012,6 +4012,33 @@ def fresh56_settings():
     return _refreshed("fresh56", _F56_FS, _F56_VARIED, 26800)
 
 
+# calib62: the design of bd43a77, frozen before its first run: 24 effect-free rows on three plants no
+# earlier set used, drawn by calib53's recipe (numpy default_rng(73)), the position sensor alone in
+# rows 0-11 and both sensors in rows 12-23. None chosen
+SPUNKY = T.Plant(J=0.119, Fc=0.712, Fs=0.983, vs=0.0694, sigma2=0.876, sigma0=125.0, sigma1=1.54)
+SUNNY = T.Plant(J=0.163, Fc=0.62, Fs=0.963, vs=0.0589, sigma2=0.763, sigma0=137.0, sigma1=1.89)
+PEPPY = T.Plant(J=0.114, Fc=1.02, Fs=1.361, vs=0.0371, sigma2=1.318, sigma0=172.0, sigma1=1.77)
+_add_plants({"spunky": (SPUNKY, T.VelocityPIController(kp=5.7, ki=34.5)),
+             "sunny": (SUNNY, T.VelocityPIController(kp=7.8, ki=47.3)),
+             "peppy": (PEPPY, T.VelocityPIController(kp=5.5, ki=33.1))},
+            {"spunky": PidTuning(3.3, 0.002),
+             "sunny": PidTuning(3.4, 0.002),
+             "peppy": PidTuning(2.8, 0.003)})
+
+
+def calib62_settings(n: int = 24):
+    """A sixty-second effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the position sensor alone in rows 0-11 and both sensors in rows 12-23, on SPUNKY,
+    SUNNY and PEPPY, at drawn rates 205-820 Hz and torque noise 0.035-0.108 N*m, white in half the
+    rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or 0.006 deg/s,
+    quantisation 0.001 or 0.0005 deg; seeds 26900 + i."""
+    return _effect_free_set("calib62", CALIB41_EXCITATIONS, ["spunky", "sunny", "peppy"],
+                            [(True, False), (True, True), (False, True)], [205.0, 655.0, 820.0, 210.0, 445.0],
+                            [0.108, 0.035, 0.061], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            26900, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -4069,7 +4096,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "fresh54": fresh54_settings, "calib60": calib60_settings, "outside27": outside27_settings,
             "outside26": outside26_settings,
             "fresh55": fresh55_settings, "calib61": calib61_settings, "outside28": outside28_settings,
-            "fresh56": fresh56_settings,
+            "fresh56": fresh56_settings, "calib62": calib62_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4263,7 +4290,7 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
                "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
-               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28", "fresh56")
+               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28", "fresh56", "calib62")
 
 
 def main():
