@@ -24,18 +24,11 @@ Each row is diagnosed once (minutes). Writes <out>/eiv_oracle_<study>.jsonl and 
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 import run as R
-from lugre_jax.diagnose import baseline_from_params, diagnose, predict
-from oracle_power import PARAMS, _whiten, power_at
-
-
-def _orth(X: np.ndarray) -> np.ndarray:
-    U, s, _ = np.linalg.svd(X / np.maximum(np.linalg.norm(X, axis=0), 1e-300), full_matrices=False)
-    return U[:, s > 1e-8 * s[0]]
+from lugre_jax.diagnose import diagnose
+from oracle_power import PARAMS, _predict_along, _whiten, baseline_jacobian, column_basis, power_at
 
 
 def evidence(job, cache) -> dict:
@@ -45,27 +38,18 @@ def evidence(job, cache) -> dict:
     rows = np.asarray(A.keep, bool) & ~np.asarray(A.val, bool)
     phi = float(job.get("torque_noise_ar") or 0.0)
     innovation = g.torque_noise_std ** 2 * (1.0 - phi ** 2)
-    fitted = {k: float(rep.baseline.params[k]) for k in PARAMS} | {"offset": float(rep.baseline.params.get("offset", 0.0)),
-                                                                   "delta": 2.0}
+    # the diagnosis fits no offset by default: the baseline's prediction without one is its own
+    fitted = {k: float(rep.baseline.params[k]) for k in PARAMS} | {"delta": 2.0}
     kin_true, kin_c = R.true_kinematics(g), A.kin
-
-    def pred(p, kin):
-        return np.asarray(predict(baseline_from_params(p), kin), float)
-
-    cols = []
-    for k in PARAMS:
-        up, dn = dict(fitted), dict(fitted)
-        up[k], dn[k] = fitted[k] * np.exp(1e-4), fitted[k] * np.exp(-1e-4)
-        cols.append((pred(up, kin_c) - pred(dn, kin_c)) / 2e-4)
-    jac = _whiten(np.column_stack(cols), phi)[rows]
-    p_true = pred(fitted, kin_true)
+    jac = _whiten(baseline_jacobian(kin_c, fitted), phi)[rows]
+    p_true = _predict_along(kin_true, fitted)
     effect = _whiten(np.asarray(g.true["torque"], float) - p_true, phi)[rows]
-    realised = _whiten(p_true - pred(fitted, kin_c), phi)[rows]
+    realised = _whiten(p_true - _predict_along(kin_c, fitted), phi)[rows]
 
     def perp(Q, x):
         return x - Q @ (Q.T @ x)
 
-    Q = _orth(jac)
+    Q = column_basis(jac)
     e = perp(Q, effect)
     lam = float(e @ e / innovation)
     x = e / max(np.linalg.norm(e), 1e-300)
@@ -82,16 +66,11 @@ def evidence(job, cache) -> dict:
 
 
 def main() -> None:
-    rows, cache, out = R.effect_rows(__doc__, "eiv_oracle")
-    for job in rows:
-        row = evidence(job, cache)
-        with open(out, "a") as fh:
-            fh.write(json.dumps(row) + "\n")
-        print(f"{row['key']}: {row['verdict']}; lam kept (fitted baseline) {row['lam_kept_fitted']:.1f}, kinematic "
-              f"variance x{1 + row['kinematic_var']:.2f} -> {row['lam_eiv']:.1f} (power "
-              f"{row['oracle_power_kept_fitted']:.2f} -> {row['oracle_power_eiv']:.2f}); on this row effect "
-              f"{row['effect_z']:+.1f}, kinematic error {row['kinematic_z']:+.1f} noise std", flush=True)
-
+    R.run_effect_rows(__doc__, "eiv_oracle", evidence, lambda row: (
+        f"{row['key']}: {row['verdict']}; lam kept (fitted baseline) {row['lam_kept_fitted']:.1f}, kinematic "
+        f"variance x{1 + row['kinematic_var']:.2f} -> {row['lam_eiv']:.1f} (power "
+        f"{row['oracle_power_kept_fitted']:.2f} -> {row['oracle_power_eiv']:.2f}); on this row effect "
+        f"{row['effect_z']:+.1f}, kinematic error {row['kinematic_z']:+.1f} noise std"))
 
 if __name__ == "__main__":
     main()

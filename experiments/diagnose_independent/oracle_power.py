@@ -75,29 +75,36 @@ def effect_torque(g, params: dict, kin=None) -> np.ndarray:
     return np.asarray(g.true["torque"], float) - _predict_along(kin, params)
 
 
+def baseline_jacobian(kin, params: dict, h: float = 1e-4) -> np.ndarray:
+    """The baseline's prediction along ``kin`` differentiated in its log-parameters ``PARAMS`` at
+    ``params`` (central differences of step ``h``; samples x parameters)."""
+    cols = []
+    for k in PARAMS:
+        up, dn = dict(params), dict(params)
+        up[k], dn[k] = params[k] * np.exp(h), params[k] * np.exp(-h)
+        cols.append((_predict_along(kin, up) - _predict_along(kin, dn)) / (2.0 * h))
+    return np.column_stack(cols)
+
+
+def column_basis(J: np.ndarray) -> np.ndarray:
+    """Orthonormal basis of the columns of ``J`` (each scaled to unit norm; directions below 1e-8 of
+    the largest dropped)."""
+    U, s, _ = np.linalg.svd(J / np.maximum(np.linalg.norm(J, axis=0), 1e-300), full_matrices=False)
+    return U[:, s > 1e-8 * s[0]]
+
+
 def oracle(g, params: dict, phi: float, rows=None, train_share: float = 0.8) -> dict:
     """``lam`` and the effect's rms before and after the baseline's directions (over the noise std).
     ``rows``: the training samples (a mask; the diagnosis's kept training samples, as ``run.py``
     passes them); None counts ``train_share`` of every sample."""
     kin = R.true_kinematics(g)
-
-    def pred(p):
-        return _predict_along(kin, p)
-
     e = effect_torque(g, params, kin)
-    cols = []
-    for k in PARAMS:
-        h = 1e-4
-        up, dn = dict(params), dict(params)
-        up[k], dn[k] = params[k] * np.exp(h), params[k] * np.exp(-h)
-        cols.append((pred(up) - pred(dn)) / (2.0 * h))
-    Jb = _whiten(np.column_stack(cols), phi)
+    Jb = _whiten(baseline_jacobian(kin, params), phi)
     ew = _whiten(e, phi)
     share = train_share
     if rows is not None:
         Jb, ew, share = Jb[rows], ew[rows], 1.0
-    U, s, _ = np.linalg.svd(Jb / np.maximum(np.linalg.norm(Jb, axis=0), 1e-300), full_matrices=False)
-    Q = U[:, s > 1e-8 * s[0]]
+    Q = column_basis(Jb)
     left = ew - Q @ (Q.T @ ew)
     sd = g.torque_noise_std
     innovation = sd ** 2 * (1.0 - phi ** 2)

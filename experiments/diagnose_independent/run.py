@@ -315,6 +315,17 @@ def effect_rows(doc: str, name: str) -> tuple[list, Path, Path]:
     return rows, Path(args.cache) if args.cache else res / "cache", out_dir / f"{name}_{args.study}.jsonl"
 
 
+def run_effect_rows(doc: str, name: str, evidence, line) -> None:
+    """The per-row analysis scripts' loop over :func:`effect_rows`: ``evidence(job, cache)`` per row,
+    appended as JSON to the output file and printed as ``line(row)``."""
+    rows, cache, out = effect_rows(doc, name)
+    for job in rows:
+        row = evidence(job, cache)
+        with open(out, "a") as fh:
+            fh.write(json.dumps(row) + "\n")
+        print(line(row), flush=True)
+
+
 def null_settings(n: int = 32):
     """``n`` effect-free settings: a deterministic walk through the grid, so that every value of
     every setting appears (not the full product)."""

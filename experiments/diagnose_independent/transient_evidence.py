@@ -12,8 +12,6 @@ samples are left out. Writes <out>/transient_<study>.jsonl and prints a line a r
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 import run as R
@@ -53,15 +51,10 @@ def evidence(job, cache) -> dict:
 
 
 def main() -> None:
-    rows, cache, out = R.effect_rows(__doc__, "transient")
-    for job in rows:
-        row = evidence(job, cache)
-        with open(out, "a") as fh:
-            fh.write(json.dumps(row) + "\n")
-        print(f"{row['key']}: {row['verdict']}; lam kept {row['lam_kept']:.1f}, unresolved moves "
-              f"{row['lam_unresolved_moves']:.1f} (summed per run {row['lam_moves_summed_per_run']:.1f} over "
-              f"{row['unresolved_move_runs']} runs), dwells {row['lam_unresolved_dwells']:.1f}", flush=True)
-
+    R.run_effect_rows(__doc__, "transient", evidence, lambda row: (
+        f"{row['key']}: {row['verdict']}; lam kept {row['lam_kept']:.1f}, unresolved moves "
+        f"{row['lam_unresolved_moves']:.1f} (summed per run {row['lam_moves_summed_per_run']:.1f} over "
+        f"{row['unresolved_move_runs']} runs), dwells {row['lam_unresolved_dwells']:.1f}"))
 
 if __name__ == "__main__":
     main()
