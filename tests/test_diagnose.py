@@ -530,6 +530,42 @@ def test_starts_are_spaced_by_their_shapes_correlation(correlation):
             assert u[p] @ u[q + 1] < correlation
     assert 2 < len(picks) < len(widths)
     assert len(spaced_starts(shapes, 0.5 * (1.0 + correlation))) > len(picks)
+    # made a batch at a time (a grid too fine to hold whole), the same starts
+    for batch in (1, 7, 60):
+        assert spaced_starts((lambda idx: shapes[idx], len(widths)), correlation, batch=batch) == picks
+
+
+def test_compliance_starts_leave_no_spring_between_them():
+    """compliance_starts on an acceleration that steps between -50, 0 and 50 every 0.3-1.5 s (40 s
+    at 400 Hz): a spring anywhere in 0.6-15 Hz, damped at the starts' zeta 0.1 or lighter (0.08),
+    has a start whose response correlates at least 0.9 with its own; with the fixed list 0.5, 1,
+    1.5, 2, 3, 5, 7, 10, 15, 20 Hz some spring correlates below 0.5 with every start (its ringing
+    after each step decorrelates within a few per cent of fn)."""
+    import jax.numpy as jnp
+
+    from lugre_jax.diagnose._model import Kinematics
+    from lugre_jax.diagnose._physics import _compliance_response, compliance_starts
+
+    fs, T = 400.0, 40.0
+    t = np.arange(0.0, T, 1.0 / fs)
+    rng = np.random.default_rng(1)
+    edges = np.cumsum(rng.uniform(0.3, 1.5, 60))
+    a = 50.0 * rng.choice([-1.0, 0.0, 1.0], 61)[np.searchsorted(edges, t)]
+    z = jnp.zeros(t.size)
+    kin = Kinematics(jnp.asarray(t), z, z, jnp.asarray(a), jnp.full(t.size - 1, 1.0 / fs), z[1:], jnp.asarray(0.0))
+    starts = compliance_starts(kin, fs, 0.8)
+    assert starts[0] == 0.5 and abs(starts[-1] - 20.0) < 1e-9 and starts == sorted(starts)
+
+    def unit(fn, zeta):
+        x = np.asarray(_compliance_response(jnp.asarray(a), 1.0 / fs, fn, zeta))
+        return x / np.linalg.norm(x)
+
+    U = np.stack([unit(f, 0.1) for f in starts])
+    fixed = np.stack([unit(f, 0.1) for f in (0.5, 1, 1.5, 2, 3, 5, 7, 10, 15, 20)])
+    springs = np.geomspace(0.6, 15.0, 60)
+    for zeta in (0.1, 0.08):
+        assert min(np.max(U @ unit(fn, zeta)) for fn in springs) >= 0.9
+    assert min(np.max(np.abs(fixed @ unit(fn, 0.1))) for fn in springs) < 0.5
 
 
 def test_a_backlash_width_is_found_by_its_profile_where_lm_leaves_it():

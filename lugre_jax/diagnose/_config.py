@@ -49,8 +49,9 @@ class DiagnoseConfig:
       cross-validated phases better, one-sided, Bonferroni over the terms at ``alpha_name``. A
       physics outside the eight that a candidate partly absorbs is then left to the attribution; a
       correct candidate loses its name this way at most at ``alpha_name``.
-    - ``start_correlation`` (0.8): a candidate's fixed starts along a shape parameter (the backlash's
-      width, tried from the smallest plausible gap to the bound) are spaced on each recording so that
+    - ``start_correlation`` (0.8): a candidate's starts along a shape parameter (the backlash's
+      width, tried from the smallest plausible gap to the bound; the compliance's natural frequency,
+      0.5-20 Hz) are spaced on each recording so that
       neighbouring starts' torque shapes correlate at least this much there; a gap midway between
       two starts then correlates at least cos(arccos(0.8)/2) = 0.95 with the nearer one's, which keeps
       90 % of its one-column gain (the width's own derivative column recovers part of the rest). A

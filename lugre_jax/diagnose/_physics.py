@@ -11,6 +11,7 @@ All torques are in the recording's torque unit; angles in the recording's positi
 
 from __future__ import annotations
 
+import hashlib
 from typing import ClassVar
 
 import equinox as eqx
@@ -241,23 +242,44 @@ class StribeckShape(AbstractCandidate):
         return {"delta": float(self.delta)}
 
 
-def spaced_starts(shapes: np.ndarray, correlation: float) -> list[int]:
+def spaced_starts(shapes, correlation: float, batch: int = 16) -> list[int]:
     """Of trial shapes along one parameter (rows, in its order), the fewest starts, first and last
     included, such that each start's shape correlates at least ``correlation`` with the next one's
     (on these samples): the shape is then never far from a start, whatever the recording's sampling
     and excitation make of the parameter (a fixed spacing in the parameter is too coarse on one
     recording and wasteful on another). Depends on the kinematics alone, not on the residual, so
-    every null draw sees the same starts."""
-    norm = np.linalg.norm(shapes, axis=1)
-    u = shapes / np.where(norm > 0, norm, 1.0)[:, None]
-    picks, i, m = [0], 0, len(shapes)
+    every null draw sees the same starts. ``shapes`` is an array, or ``(shape_of, m)``: the ``m``
+    rows made ``batch`` at a time by ``shape_of(indices)``, so that a fine grid on a long recording
+    need not be held whole."""
+    if isinstance(shapes, tuple):
+        shape_of, m = shapes
+    else:
+        arr = np.asarray(shapes)
+        shape_of, m = (lambda idx: arr[idx]), len(arr)
+
+    def unit(idx):
+        x = np.asarray(shape_of(np.asarray(idx)), float)
+        norm = np.linalg.norm(x, axis=1)
+        return x / np.where(norm > 0, norm, 1.0)[:, None]
+
+    picks, i = [0], 0
+    ui = unit([0])[0]
     while i < m - 1:
-        c = u[i + 1:] @ u[i]
-        below = np.flatnonzero(c < correlation)
         # the last shape before the first one below the bound (the next one, where even it is below)
-        j = i + max(int(below[0]), 1) if below.size else m - 1
-        picks.append(j)
-        i = j
+        last, j = None, m - 1
+        for j0 in range(i + 1, m, batch):
+            idx = np.arange(j0, min(j0 + batch, m))
+            u = unit(idx)
+            below = np.flatnonzero(u @ ui < correlation)
+            if below.size:
+                k = int(below[0])
+                if k > 0:
+                    last = (idx[k - 1], u[k - 1])
+                j, ui = last if last is not None else (idx[k], u[k])
+                break
+            last = (idx[-1], u[-1])
+        picks.append(int(j))
+        i = int(j)
     return picks
 
 
@@ -385,6 +407,45 @@ def _compliance_response(a, h, fn, zeta):
     return -w * w * xs[:, 0] - 2 * zeta * w * xs[:, 1] - a
 
 
+@eqx.filter_jit
+def _compliance_shapes(fns, a, h, zeta):
+    """Each natural frequency's compliance response (rows), in one compiled pass."""
+    return jax.vmap(lambda f: _compliance_response(a, h, f, zeta))(fns)
+
+
+_STARTS_MEMO: dict = {}
+
+
+def compliance_starts(kin, fs: float, correlation: float, zeta: float = 0.1) -> list[float]:
+    """Natural frequencies to start the compliance's fit from, 0.5 Hz up to 20 Hz (and below 0.35
+    of the sampling rate ``fs``): :func:`spaced_starts` over a grid 2 % apart, the responses at
+    damping ``zeta`` to the recording's acceleration. A lightly damped response rings for many
+    periods, so on a long excitation it decorrelates within a few per cent of fn (at 0.5 Hz
+    neighbours 4 % apart already correlate below 0.8): a fixed list leaves a spring between two
+    starts with a fraction of its gain. The starts depend on the kinematics alone; every null
+    draw's search reads the same ones (kept per acceleration, as each draw asks again)."""
+    a = np.asarray(kin.a, float)
+    h = float(np.mean(np.asarray(kin.h, float)))
+    hi = min(20.0, 0.35 * float(fs))
+    if hi <= 0.5:
+        return []
+    key = (hashlib.blake2b(a.tobytes(), digest_size=16).hexdigest(), h, hi, float(correlation), float(zeta))
+    if key not in _STARTS_MEMO:
+        grid = np.geomspace(0.5, hi, int(np.ceil(np.log(hi / 0.5) / np.log(1.02))) + 1)
+        aj = jnp.asarray(a)
+
+        def shape_of(idx):
+            # padded to one batch's size: one compilation per recording
+            full = np.concatenate([idx, np.full(16 - idx.size, idx[-1])]) if idx.size < 16 else idx
+            return np.asarray(_compliance_shapes(jnp.asarray(grid[full]), aj, h, zeta))[:idx.size]
+
+        picks = spaced_starts((shape_of, grid.size), correlation, batch=16)
+        if len(_STARTS_MEMO) > 8:
+            _STARTS_MEMO.clear()
+        _STARTS_MEMO[key] = [float(grid[i]) for i in picks]
+    return list(_STARTS_MEMO[key])
+
+
 class Compliance(AbstractCandidate):
     """Elastic joint (two-mass): a load inertia J_load on a spring of natural frequency fn."""
 
@@ -426,8 +487,7 @@ class Compliance(AbstractCandidate):
         return self.J_load * _compliance_response(kin.a, h, self.fn, self.zeta)
 
     def initial_guesses(self, ctx):
-        fs = ctx.scales["fs"]
-        fns = [f for f in (0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0) if f < 0.35 * fs]
+        fns = compliance_starts(ctx.kin, ctx.scales["fs"], ctx.config.start_correlation)
         if ctx.time_peak_hz:
             fns = [ctx.time_peak_hz] + fns
         J0 = 0.05 * ctx.scales["T/A"]
