@@ -4050,6 +4050,47 @@ def calib62_settings(n: int = 24):
                             26900, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
 
 
+# calib63: the design of the compliance's spaced starts, frozen before its first run: 24 effect-free
+# rows on three plants no earlier set used, drawn by calib53's recipe (numpy default_rng(74)), the
+# velocity sensor alone in rows 0-11 and the position sensor alone in rows 12-23. None chosen
+FEISTY = T.Plant(J=0.167, Fc=0.865, Fs=1.3, vs=0.0568, sigma2=1.152, sigma0=204.0, sigma1=2.33)
+BOUNCY = T.Plant(J=0.06, Fc=1.024, Fs=1.629, vs=0.0611, sigma2=1.112, sigma0=274.0, sigma1=1.62)
+SNAPPY = T.Plant(J=0.134, Fc=1.184, Fs=1.819, vs=0.0308, sigma2=0.822, sigma0=264.0, sigma1=2.38)
+_add_plants({"feisty": (FEISTY, T.VelocityPIController(kp=8.0, ki=48.4)),
+             "bouncy": (BOUNCY, T.VelocityPIController(kp=2.9, ki=17.4)),
+             "snappy": (SNAPPY, T.VelocityPIController(kp=6.4, ki=38.9))},
+            {"feisty": PidTuning(2.9, 0.002),
+             "bouncy": PidTuning(3.0, 0.002),
+             "snappy": PidTuning(3.0, 0.002)})
+
+
+def calib63_settings(n: int = 24):
+    """A sixty-third effect-free set (issues #30 and #31), fixed and committed before its first run:
+    the six excitation kinds (calib41's) x both loops (the position PID without feedforward in every
+    fourth row), the velocity sensor alone in rows 0-11 and the position sensor alone in rows 12-23,
+    on FEISTY, BOUNCY and SNAPPY, at drawn rates 315-770 Hz and torque noise 0.042-0.086 N*m, white in
+    half the rows and AR(1) of coefficient 0.5 or 0.8 in the other half, velocity noise 0.002 or
+    0.006 deg/s, quantisation 0.001 or 0.0005 deg; seeds 27000 + i."""
+    return _effect_free_set("calib63", CALIB41_EXCITATIONS, ["feisty", "bouncy", "snappy"],
+                            [(False, True), (True, False), (True, True)], [485.0, 550.0, 535.0, 315.0, 770.0],
+                            [0.086, 0.058, 0.042], [0.0, 0.5, 0.0, 0.8], [0.002, 0.006], [0.001, 0.0005],
+                            27000, n, loops=("pid", "pi"), nff=1, plant_k=1, fs_k=2, tn_rule=(1, 4))
+
+
+# fresh57: the design of the compliance's spaced starts, frozen before its first run: fresh3's 24
+# effect rows at rates and variations drawn as fresh52's with numpy default_rng(75). None chosen
+_F57_FS = {"a": 390.0, "b": 350.0, "c": 680.0, "d": 695.0, "e": 855.0, "f": 740.0, "g": 850.0, "h": 865.0,
+           "i": 815.0}
+_F57_VARIED = _varied(-3.0624, 0.986, 2.0298)
+
+
+def fresh57_settings():
+    """A fresh set (issue #30), fixed and committed before its first run: all 24 of fresh3's effect
+    rows at 350-865 Hz (by recipe, drawn), seeds 27100 + k, with the gravity's phase, the asymmetry's
+    sign and the ripple's period and phase changed by drawn amounts."""
+    return _refreshed("fresh57", _F57_FS, _F57_VARIED, 27100)
+
+
 # each study's rows, fixed before its first run
 SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outside_settings,
             "calib2": calib2_settings, "fresh4": fresh4_settings, "calib3": calib3_settings,
@@ -4108,6 +4149,7 @@ SETTINGS = {"calib": calib_settings, "fresh3": fresh3_settings, "outside": outsi
             "outside26": outside26_settings,
             "fresh55": fresh55_settings, "calib61": calib61_settings, "outside28": outside28_settings,
             "fresh56": fresh56_settings, "calib62": calib62_settings,
+            "calib63": calib63_settings, "fresh57": fresh57_settings,
             "null": null_settings, "heldout": heldout_settings, "fresh": fresh_settings}
 
 
@@ -4301,7 +4343,8 @@ NEW_STUDIES = ("calib", "fresh3", "outside", "calib2", "fresh4", "calib3", "fres
                "fresh49", "calib55", "outside22",
                "fresh50", "calib56", "outside23", "fresh51", "calib57",
                "outside24", "outside25", "fresh52", "calib58", "fresh53", "calib59", "outside26",
-               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28", "fresh56", "calib62")
+               "fresh54", "calib60", "outside27", "fresh55", "calib61", "outside28", "fresh56", "calib62",
+               "calib63", "fresh57")
 
 
 def main():
