@@ -432,14 +432,14 @@ def compliance_starts(kin, fs: float, correlation: float, zeta: float = 0.1) -> 
     key = (hashlib.blake2b(a.tobytes(), digest_size=16).hexdigest(), h, hi, float(correlation), float(zeta))
     if key not in _STARTS_MEMO:
         grid = np.geomspace(0.5, hi, int(np.ceil(np.log(hi / 0.5) / np.log(1.02))) + 1)
-        aj = jnp.asarray(a)
+        aj, batch = jnp.asarray(a), 16
 
         def shape_of(idx):
             # padded to one batch's size: one compilation per recording
-            full = np.concatenate([idx, np.full(16 - idx.size, idx[-1])]) if idx.size < 16 else idx
+            full = np.concatenate([idx, np.full(batch - idx.size, idx[-1])]) if idx.size < batch else idx
             return np.asarray(_compliance_shapes(jnp.asarray(grid[full]), aj, h, zeta))[:idx.size]
 
-        picks = spaced_starts((shape_of, grid.size), correlation, batch=16)
+        picks = spaced_starts((shape_of, grid.size), correlation, batch=batch)
         if len(_STARTS_MEMO) > 8:
             _STARTS_MEMO.clear()
         _STARTS_MEMO[key] = [float(grid[i]) for i in picks]
